@@ -1,0 +1,69 @@
+//! `filterbench bench`: throughput of the Monte Carlo engine on an experiment's first scenario, and
+//! how much of a trial is spent drawing its random numbers. Measured, not asserted.
+
+use std::fmt::Write;
+use std::time::Instant;
+
+use crate::error::Result;
+use crate::montecarlo::{self, Workspace};
+use crate::noise::{NoiseSampler, trial_rng};
+use crate::run;
+use crate::spec::Experiment;
+
+pub fn run(exp: &Experiment) -> Result<String> {
+    let filters = run::design_all(exp)?;
+    let covs = run::scenario_covariances(exp, &filters)?;
+    let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
+    let sampler = NoiseSampler::new(&exp.plant, &covs[0], &exp.scenarios[0].shape);
+    let sc = montecarlo::Scenario { plant: &exp.plant, filters: &reals, sampler: &sampler, seed: exp.seed, index: 0 };
+    let trials = exp.trials as u64;
+    let steps = exp.plant.steps() as f64;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "bench {}: scenario `{}`, {} filters, N = {}, {} trials, {} thread(s)",
+        exp.name,
+        exp.scenarios[0].name,
+        reals.len(),
+        exp.plant.horizon,
+        trials,
+        rayon::current_num_threads()
+    );
+
+    // Warm up once, then time the parallel engine as `experiment` runs it.
+    montecarlo::run(&sc, trials.min(montecarlo::BLOCK), &|_| {});
+    let t = Instant::now();
+    let st = montecarlo::run(&sc, trials, &|_| {});
+    let par = t.elapsed().as_secs_f64();
+    std::hint::black_box(&st);
+
+    // One thread, whole trials versus drawing only, over the same trial indices.
+    let mut ws = Workspace::new(&sc);
+    let mut sink = 0.0;
+    let t = Instant::now();
+    for i in 0..trials {
+        montecarlo::run_trial(&sc, &mut ws, i, |_, _, z, zh| sink += z[0] - zh[0]);
+    }
+    let one = t.elapsed().as_secs_f64();
+    let mut draw = sampler.workspace();
+    let t = Instant::now();
+    for i in 0..trials {
+        let mut rng = trial_rng(exp.seed, 0, i);
+        sampler.draw_into(&mut rng, &mut draw);
+        sink += draw.w[(0, 0)];
+    }
+    let rnd = t.elapsed().as_secs_f64();
+    std::hint::black_box(sink);
+
+    let _ = writeln!(s, "engine (parallel, with accumulators): {:.3} s, {:.3e} trial-steps/s", par, trials as f64 * steps / par);
+    let _ = writeln!(s, "one thread, whole trials:             {:.3} s, {:.2} µs per trial", one, one / trials as f64 * 1e6);
+    let _ = writeln!(
+        s,
+        "one thread, drawing only:             {:.3} s, {:.2} µs per trial ({} scalars), {:.0} % of a trial",
+        rnd,
+        rnd / trials as f64 * 1e6,
+        sampler.scalars_per_trial(),
+        100.0 * rnd / one
+    );
+    Ok(s)
+}

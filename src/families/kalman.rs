@@ -1,0 +1,73 @@
+//! The Kalman family (SPEC §1): seed 000 eqs (4)–(6) in filtering form and seed 002 eqs (5.6)–(5.7)
+//! in prediction form, designed at a stated covariance. Both forms share the one-step predictor
+//! state s[k] = x̂[k|k−1]; they differ only in the output map.
+//!
+//! The recursion is written for the stacked noise of SPEC §0, where the same w[k] may enter both
+//! x[k+1] (through B) and y[k] (through D): with innovation covariance S = C P̄ Cᵀ + D W Dᵀ,
+//!
+//!     L  = (A P̄ Cᵀ + B W Dᵀ) S⁺                 (predictor gain)
+//!     Lz = (Cz P̄ Cᵀ + Dz W Dᵀ) S⁺               (filtering output gain: ẑ = E[z[k] | y[0..k]])
+//!     P̄[k+1] = A P̄ Aᵀ + B W Bᵀ − L S Lᵀ,       P̄[0] = S_x0,   s[0] = E x0.
+//!
+//! With D = [0 d] and B = [b 0] (uncorrelated noises) this is exactly seed 000's k[n] and P[n]; the
+//! pseudo-inverse ⁺ is the seed's and gives a zero gain at steps without measurements.
+
+use serde::Deserialize;
+
+use super::{Design, Guarantee};
+use crate::error::{Error, Result};
+use crate::exact;
+use crate::linalg::{Mat, psd_pinv, symmetrize};
+use crate::noise::CovChoice;
+use crate::plant::{Covariances, Plant};
+use crate::realization::{Gains, Realization};
+use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    /// The covariance the filter is designed at (same forms as a scenario's `covariance`).
+    #[serde(default)]
+    design: CovChoiceFile,
+}
+
+pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
+    let p: Params = family_params(filter)?;
+    let key = format!("filters.{}.design", filter.name);
+    if matches!(p.design, CovChoiceFile::WorstFor { .. }) {
+        return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's worst case"));
+    }
+    let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
+    let cov = choice.covariances(&key, exp, &|_| unreachable!("refused above"))?;
+    let realization = kalman(&exp.plant, &cov, exp.pattern);
+    let at_design = exact::error(&exp.plant, &realization, &cov);
+    Ok(Design {
+        realization,
+        guarantee: Some(Guarantee { kind: "exact_at_design".into(), total: at_design.total, per_step: at_design.per_step }),
+    })
+}
+
+/// The Kalman filter of `plant` for the covariances `cov`, as a realization (module docs).
+pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization {
+    let w = cov.w();
+    let mut pbar = cov.x0().clone();
+    let n = plant.nx();
+    let mut steps = Vec::with_capacity(plant.steps());
+    for k in 0..plant.steps() {
+        let (c, d) = (plant.c_at(k), plant.d_at(k));
+        let wd = &w * d.transpose();
+        let s = symmetrize(&(c * &pbar * c.transpose() + d * &wd));
+        let s_inv = psd_pinv(&s);
+        let l = (&plant.a * &pbar * c.transpose() + &plant.b * &wd) * &s_inv;
+        let (cf, df) = match pattern {
+            Pattern::Filtering => {
+                let lz = (&plant.cz * &pbar * c.transpose() + &plant.dz * &wd) * &s_inv;
+                (&plant.cz - &lz * c, lz)
+            }
+            Pattern::Prediction => (plant.cz.clone(), Mat::zeros(plant.nz(), plant.ny())),
+        };
+        steps.push(Gains { af: &plant.a - &l * c, bf: l.clone(), cf, df, gf: Mat::identity(n, n) });
+        pbar = symmetrize(&(&plant.a * &pbar * plant.a.transpose() + &plant.b * &w * plant.b.transpose() - &l * &s * l.transpose()));
+    }
+    Realization { s0: plant.x0_mean.clone(), steps }
+}

@@ -1,0 +1,22 @@
+//! Family name → design procedure.
+
+use super::{Design, kalman};
+use crate::error::Result;
+use crate::spec::{Experiment, FilterSpec};
+
+/// Every family an experiment file may name.
+pub const FAMILIES: &[&str] = &["kalman"];
+
+pub fn is_family(name: &str) -> bool {
+    FAMILIES.contains(&name)
+}
+
+/// Designs one filter of the experiment (its realization is checked against the plant and pattern).
+pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
+    let d = match filter.family.as_str() {
+        "kalman" => kalman::design(exp, filter)?,
+        other => unreachable!("family `{other}` passed validation but has no design procedure"),
+    };
+    d.realization.check(&filter.name, &exp.plant, exp.pattern)?;
+    Ok(d)
+}

@@ -1,0 +1,123 @@
+//! Small dense linear algebra on nalgebra matrices: the checks and factorizations that every other
+//! module needs (symmetry, positive semidefiniteness, a square-root factor, a pseudo-inverse).
+
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
+
+use crate::error::{Error, Result};
+
+pub type Mat = DMatrix<f64>;
+pub type Vector = DVector<f64>;
+
+/// Relative tolerance for symmetry and for the smallest admissible eigenvalue of a "PSD" matrix.
+pub const PSD_TOL: f64 = 1e-10;
+
+/// Builds a matrix from rows as written in an experiment file, checking that the rows are equally
+/// long and, when given, the expected shape. `key` names the file key in the error.
+pub fn from_rows(key: &str, rows: &[Vec<f64>], shape: Option<(usize, usize)>) -> Result<Mat> {
+    let nr = rows.len();
+    let nc = rows.first().map_or(0, Vec::len);
+    if let Some(r) = rows.iter().position(|r| r.len() != nc) {
+        return Err(Error::invalid(
+            key,
+            format!("row {} has {} entries, row 1 has {nc}", r + 1, rows[r].len()),
+        ));
+    }
+    if let Some((er, ec)) = shape {
+        if (nr, nc) != (er, ec) {
+            return Err(Error::invalid(key, format!("expected a {er}×{ec} matrix, found {nr}×{nc}")));
+        }
+    }
+    if let Some(v) = rows.iter().flatten().find(|v| !v.is_finite()) {
+        return Err(Error::invalid(key, format!("entry {v} is not finite")));
+    }
+    Ok(Mat::from_fn(nr, nc, |i, j| rows[i][j]))
+}
+
+fn scale(m: &Mat) -> f64 {
+    m.amax().max(1e-300)
+}
+
+/// Checks that `m` is square, symmetric and positive semidefinite (to `PSD_TOL` relative to its
+/// largest entry); the error names `key` and the smallest eigenvalue.
+pub fn check_psd(key: &str, m: &Mat) -> Result<()> {
+    if !m.is_square() {
+        return Err(Error::invalid(key, format!("a covariance must be square, found {}×{}", m.nrows(), m.ncols())));
+    }
+    let s = scale(m);
+    let asym = (m - m.transpose()).amax();
+    if asym > PSD_TOL * s {
+        return Err(Error::invalid(key, format!("covariance is not symmetric (max |S - Sᵀ| = {asym:.3e})")));
+    }
+    let min = min_eigenvalue(m);
+    if min < -PSD_TOL * s * m.nrows() as f64 {
+        return Err(Error::invalid(
+            key,
+            format!("covariance is not positive semidefinite (smallest eigenvalue {min:.6e})"),
+        ));
+    }
+    Ok(())
+}
+
+pub fn symmetrize(m: &Mat) -> Mat {
+    (m + m.transpose()) * 0.5
+}
+
+pub fn min_eigenvalue(m: &Mat) -> f64 {
+    if m.is_empty() {
+        return 0.0;
+    }
+    SymmetricEigen::new(symmetrize(m)).eigenvalues.min()
+}
+
+/// A factor L with L Lᵀ = S for a symmetric PSD S, singular S included: Cholesky when it succeeds,
+/// otherwise the eigen-factor V·sqrt(max(Λ, 0)). Sampling w = L u with E[uuᵀ] = I then has
+/// covariance exactly S, whatever the law of u.
+pub fn psd_factor(s: &Mat) -> Mat {
+    if let Some(ch) = nalgebra::Cholesky::new(symmetrize(s)) {
+        return ch.l();
+    }
+    let eig = SymmetricEigen::new(symmetrize(s));
+    let mut v = eig.eigenvectors;
+    for (j, lam) in eig.eigenvalues.iter().enumerate() {
+        let r = lam.max(0.0).sqrt();
+        v.column_mut(j).scale_mut(r);
+    }
+    v
+}
+
+/// Moore–Penrose pseudo-inverse of a symmetric PSD matrix (the `⁺` of seed 000 eq (5)), with
+/// eigenvalues below `PSD_TOL` times the largest treated as zero. A step without measurements
+/// (C = 0, D = 0) then gets a zero gain instead of a division by zero.
+pub fn psd_pinv(s: &Mat) -> Mat {
+    let n = s.nrows();
+    if n == 0 {
+        return Mat::zeros(0, 0);
+    }
+    let eig = SymmetricEigen::new(symmetrize(s));
+    let top = eig.eigenvalues.amax();
+    let mut out = Mat::zeros(n, n);
+    for (j, &lam) in eig.eigenvalues.iter().enumerate() {
+        if lam > PSD_TOL * top && lam > 0.0 {
+            let v = eig.eigenvectors.column(j);
+            out += (v * v.transpose()) / lam;
+        }
+    }
+    out
+}
+
+/// Block-diagonal matrix of the given square blocks.
+pub fn block_diag(blocks: &[&Mat]) -> Mat {
+    let n: usize = blocks.iter().map(|b| b.nrows()).sum();
+    let mut out = Mat::zeros(n, n);
+    let mut o = 0;
+    for b in blocks {
+        out.view_mut((o, o), (b.nrows(), b.ncols())).copy_from(b);
+        o += b.nrows();
+    }
+    out
+}
+
+/// Frobenius inner product ⟨A, B⟩ = tr(Aᵀ B).
+pub fn frob_dot(a: &Mat, b: &Mat) -> f64 {
+    a.component_mul(b).sum()
+}

@@ -1,0 +1,127 @@
+//! Command line: `list`, `experiment NAME|FILE`, `bench NAME|FILE`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use filterbench::report::{self, Staging, manifest::Overrides};
+use filterbench::{Result, bench, experiment_path, list_experiments, run, spec};
+
+#[derive(Parser)]
+#[command(name = "filterbench", version, about = "Monte Carlo benchmarking of robust state estimators: empirical vs exact vs guaranteed error")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the shipped experiments with a one-line description each.
+    List,
+    /// Run an experiment (a name from `list`, or the path of a TOML file) and write its results.
+    Experiment {
+        /// Experiment name (experiments/NAME.toml) or path to a TOML file.
+        name: String,
+        #[command(flatten)]
+        opts: RunOpts,
+        /// Output folder (default: results/NAME); replaced only when the run completes.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Do not print the progress bar or the table.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Measure throughput: trials × steps per second, and the share of drawing random numbers.
+    Bench {
+        /// Experiment name or path to a TOML file.
+        name: String,
+        #[command(flatten)]
+        opts: RunOpts,
+    },
+}
+
+#[derive(clap::Args)]
+struct RunOpts {
+    /// Number of Monte Carlo trials per scenario (overrides the file).
+    #[arg(long)]
+    trials: Option<usize>,
+    /// Random seed (overrides the file).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+fn load(name: &str, opts: &RunOpts) -> Result<spec::Experiment> {
+    let mut exp = spec::load(&experiment_path(name)?)?;
+    if let Some(t) = opts.trials {
+        if t < 2 {
+            return Err(filterbench::Error::invalid("--trials", "at least 2 trials are needed"));
+        }
+        exp.trials = t;
+        exp.sample_trajectories = exp.sample_trajectories.min(t);
+    }
+    if let Some(s) = opts.seed {
+        exp.seed = s;
+    }
+    Ok(exp)
+}
+
+fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        if t == 0 {
+            return Err(filterbench::Error::invalid("--threads", "must be at least 1"));
+        }
+        b = b.num_threads(t);
+    }
+    b.build().map_err(|e| filterbench::Error::invalid("--threads", e.to_string()))
+}
+
+fn main_inner(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::List => {
+            let list = list_experiments();
+            let w = list.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
+            for (name, desc) in list {
+                println!("{name:w$}  {desc}");
+            }
+        }
+        Command::Experiment { name, opts, out, quiet } => {
+            let exp = load(&name, &opts)?;
+            let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exp.name));
+            let staging = Staging::new(&target)?;
+            let outcome = pool(opts.threads)?.install(|| run::run(&exp, !quiet))?;
+            let overrides = Overrides {
+                trials: opts.trials,
+                seed: opts.seed,
+                threads: opts.threads,
+                out: out.map(|p| p.display().to_string()),
+            };
+            report::write_all(&exp, &outcome, staging.path(), &overrides)?;
+            let dir = staging.commit()?;
+            if !quiet {
+                print!("{}", report::console::table(&exp, &outcome));
+                println!("\nresults: {}", dir.display());
+            }
+        }
+        Command::Bench { name, opts } => {
+            let exp = load(&name, &opts)?;
+            let p = pool(opts.threads)?;
+            print!("{}", p.install(|| bench::run(&exp))?);
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match main_inner(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line, whatever a library put into its message.
+            eprintln!("error: {}", e.to_string().trim().replace('\n', "; "));
+            ExitCode::from(2)
+        }
+    }
+}

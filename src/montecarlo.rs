@@ -1,0 +1,210 @@
+//! The Monte Carlo engine: every filter of the experiment on the same draws (common random
+//! numbers), trials in parallel with rayon, streaming per-step accumulators.
+//!
+//! Trials are cut into fixed blocks of [`BLOCK`] trials. A block runs sequentially into its own
+//! accumulators; blocks run in parallel; their accumulators are merged in block order. Together
+//! with per-trial random streams ([`trial_rng`]) this makes every figure bit-identical for any
+//! number of threads. Memory is O(filters × steps), independent of the number of trials.
+
+use rayon::prelude::*;
+
+use crate::linalg::{Mat, Vector};
+use crate::noise::{NoiseSampler, TrialDraw, trial_rng};
+use crate::plant::Plant;
+use crate::realization::Realization;
+use crate::stats::Welford;
+
+/// Trials per block: the unit of parallel work and of the fixed reduction order.
+pub const BLOCK: u64 = 64;
+
+/// Per-filter statistics of one scenario.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FilterStats {
+    /// Summed squared error over the horizon, one value per trial.
+    pub total: Welford,
+    /// Squared error |z[k] − ẑ[k]|² at each step.
+    pub steps: Vec<Welford>,
+}
+
+/// Everything one scenario's Monte Carlo run accumulates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct McStats {
+    pub filters: Vec<FilterStats>,
+    /// Paired differences J_i − J_j of the summed error on the same draws, for i < j, in the order
+    /// (0,1), (0,2), …, (1,2), …: their CI is much narrower than that of either mean.
+    pub paired: Vec<Welford>,
+}
+
+impl McStats {
+    fn new(nf: usize, steps: usize) -> Self {
+        McStats {
+            filters: vec![FilterStats { total: Welford::default(), steps: vec![Welford::default(); steps] }; nf],
+            paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
+        }
+    }
+    fn merge(&mut self, o: &McStats) {
+        for (a, b) in self.filters.iter_mut().zip(&o.filters) {
+            a.total.merge(&b.total);
+            for (x, y) in a.steps.iter_mut().zip(&b.steps) {
+                x.merge(y);
+            }
+        }
+        for (a, b) in self.paired.iter_mut().zip(&o.paired) {
+            a.merge(b);
+        }
+    }
+    /// The pairs (i, j) in the order of `paired`.
+    pub fn pairs(nf: usize) -> Vec<(usize, usize)> {
+        (0..nf).flat_map(|i| (i + 1..nf).map(move |j| (i, j))).collect()
+    }
+}
+
+/// What the engine needs to run one scenario.
+pub struct Scenario<'a> {
+    pub plant: &'a Plant,
+    pub filters: &'a [&'a Realization],
+    pub sampler: &'a NoiseSampler,
+    pub seed: u64,
+    pub index: usize,
+}
+
+/// Preallocated per-thread buffers: one trial allocates nothing.
+pub struct Workspace {
+    draw: TrialDraw,
+    x: Vector,
+    x_next: Vector,
+    y: Vector,
+    z: Vector,
+    zhat: Vector,
+    s: Vec<Vector>,
+    s_next: Vec<Vector>,
+}
+
+impl Workspace {
+    pub fn new(sc: &Scenario) -> Self {
+        let p = sc.plant;
+        Workspace {
+            draw: sc.sampler.workspace(),
+            x: Vector::zeros(p.nx()),
+            x_next: Vector::zeros(p.nx()),
+            y: Vector::zeros(p.ny()),
+            z: Vector::zeros(p.nz()),
+            zhat: Vector::zeros(p.nz()),
+            s: sc.filters.iter().map(|r| r.s0.clone()).collect(),
+            s_next: sc.filters.iter().map(|r| r.s0.clone()).collect(),
+        }
+    }
+}
+
+/// Runs trial `trial`: draws its noise, simulates the plant, runs every filter on the same y, and
+/// calls `visit(k, f, z, ẑ)` for each step k and filter f.
+#[inline]
+pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl FnMut(usize, usize, &Vector, &Vector)) {
+    let mut rng = trial_rng(sc.seed, sc.index, trial);
+    sc.sampler.draw_into(&mut rng, &mut ws.draw);
+    let p = sc.plant;
+    ws.x.copy_from(&ws.draw.x0);
+    for (s, r) in ws.s.iter_mut().zip(sc.filters) {
+        s.copy_from(&r.s0);
+    }
+    for k in 0..p.steps() {
+        let wk = ws.draw.w.column(k);
+        ws.y.gemv(1.0, p.c_at(k), &ws.x, 0.0);
+        ws.y.gemv(1.0, p.d_at(k), &wk, 1.0);
+        ws.z.gemv(1.0, &p.cz, &ws.x, 0.0);
+        ws.z.gemv(1.0, &p.dz, &wk, 1.0);
+        let r = p.r_at(k);
+        for (f, real) in sc.filters.iter().enumerate() {
+            real.output(k, &ws.s[f], &ws.y, &mut ws.zhat);
+            visit(k, f, &ws.z, &ws.zhat);
+            if k < p.horizon {
+                real.advance(k, &ws.s[f], &ws.y, r, &mut ws.s_next[f]);
+                std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
+            }
+        }
+        if k < p.horizon {
+            ws.x_next.gemv(1.0, &p.a, &ws.x, 0.0);
+            ws.x_next.gemv(1.0, &p.b, &wk, 1.0);
+            if let Some(r) = r {
+                ws.x_next += r;
+            }
+            std::mem::swap(&mut ws.x, &mut ws.x_next);
+        }
+    }
+}
+
+fn squared_error(z: &Vector, zhat: &Vector) -> f64 {
+    z.iter().zip(zhat.iter()).map(|(a, b)| (a - b) * (a - b)).sum()
+}
+
+fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStats {
+    let nf = sc.filters.len();
+    let mut st = McStats::new(nf, sc.plant.steps());
+    let pairs = McStats::pairs(nf);
+    let mut totals = vec![0.0; nf];
+    for t in first..last {
+        totals.fill(0.0);
+        let per_filter = &mut st.filters;
+        run_trial(sc, ws, t, |k, f, z, zhat| {
+            let e2 = squared_error(z, zhat);
+            per_filter[f].steps[k].push(e2);
+            totals[f] += e2;
+        });
+        for (acc, v) in st.filters.iter_mut().zip(&totals) {
+            acc.total.push(*v);
+        }
+        for (acc, &(i, j)) in st.paired.iter_mut().zip(&pairs) {
+            acc.push(totals[i] - totals[j]);
+        }
+    }
+    st
+}
+
+/// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
+/// number of trials finished by each block.
+pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McStats {
+    let blocks: Vec<(u64, u64)> =
+        (0..trials.div_ceil(BLOCK)).map(|b| (b * BLOCK, ((b + 1) * BLOCK).min(trials))).collect();
+    let parts: Vec<McStats> = blocks
+        .par_iter()
+        .map_init(
+            || Workspace::new(sc),
+            |ws, &(a, b)| {
+                let st = run_block(sc, ws, a, b);
+                progress(b - a);
+                st
+            },
+        )
+        .collect();
+    let mut out = McStats::new(sc.filters.len(), sc.plant.steps());
+    for p in &parts {
+        out.merge(p);
+    }
+    out
+}
+
+/// One recorded trial: the truth z[k] and every filter's estimate ẑ[k] (columns are steps).
+#[derive(Clone, Debug)]
+pub struct Trajectory {
+    pub trial: u64,
+    pub z: Mat,
+    pub zhat: Vec<Mat>,
+}
+
+/// Re-runs trials 0..count (same streams as in [`run`]) and records their trajectories.
+pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
+    let mut ws = Workspace::new(sc);
+    let (nz, steps) = (sc.plant.nz(), sc.plant.steps());
+    (0..count)
+        .map(|t| {
+            let mut tr = Trajectory { trial: t, z: Mat::zeros(nz, steps), zhat: vec![Mat::zeros(nz, steps); sc.filters.len()] };
+            run_trial(sc, &mut ws, t, |k, f, z, zhat| {
+                if f == 0 {
+                    tr.z.set_column(k, z);
+                }
+                tr.zhat[f].set_column(k, zhat);
+            });
+            tr
+        })
+        .collect()
+}

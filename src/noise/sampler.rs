@@ -1,0 +1,85 @@
+//! The per-trial noise draw: x0 = m0 + L0 u0 and w[k] = Lw u[k] for k = 0..N, with u i.i.d. of the
+//! scenario's shape and L Lᵀ equal to the scenario's covariance. Factors are computed once per
+//! scenario; a draw writes into a preallocated [`TrialDraw`] and allocates nothing.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::shape::{Shape, StandardDraw};
+use crate::linalg::{Mat, Vector, psd_factor};
+use crate::plant::{Covariances, Plant};
+
+/// The random stream of one trial. It depends on (seed, scenario, trial) only, never on the thread
+/// that runs it, so results are identical for any thread count: the key is derived from the
+/// experiment seed and the scenario index, and ChaCha's 64-bit stream id is the trial index.
+pub fn trial_rng(seed: u64, scenario: usize, trial: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(splitmix(seed ^ splitmix(scenario as u64 + 1)));
+    rng.set_stream(trial);
+    rng
+}
+
+fn splitmix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+#[derive(Clone, Debug)]
+pub struct NoiseSampler {
+    m0: Vector,
+    l0: Mat,
+    lw: Mat,
+    draw: StandardDraw,
+    steps: usize,
+}
+
+/// One trial's draws: the initial state and w[k] as column k of `w`.
+#[derive(Clone, Debug)]
+pub struct TrialDraw {
+    pub x0: Vector,
+    pub w: Mat,
+    u0: Vector,
+    u: Vector,
+}
+
+impl NoiseSampler {
+    pub fn new(plant: &Plant, cov: &Covariances, shape: &Shape) -> Self {
+        NoiseSampler {
+            m0: plant.x0_mean.clone(),
+            l0: psd_factor(cov.x0()),
+            lw: psd_factor(&cov.w()),
+            draw: shape.sampler(),
+            steps: plant.steps(),
+        }
+    }
+
+    pub fn workspace(&self) -> TrialDraw {
+        TrialDraw {
+            x0: Vector::zeros(self.m0.len()),
+            w: Mat::zeros(self.lw.nrows(), self.steps),
+            u0: Vector::zeros(self.l0.ncols()),
+            u: Vector::zeros(self.lw.ncols()),
+        }
+    }
+
+    /// Fills `out` with one trial's draws from `rng`.
+    pub fn draw_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, out: &mut TrialDraw) {
+        for v in out.u0.iter_mut() {
+            *v = self.draw.draw(rng);
+        }
+        out.x0.copy_from(&self.m0);
+        out.x0.gemv(1.0, &self.l0, &out.u0, 1.0);
+        for k in 0..self.steps {
+            for v in out.u.iter_mut() {
+                *v = self.draw.draw(rng);
+            }
+            out.w.column_mut(k).gemv(1.0, &self.lw, &out.u, 0.0);
+        }
+    }
+
+    /// Number of standardized scalars one trial consumes.
+    pub fn scalars_per_trial(&self) -> usize {
+        self.l0.ncols() + self.steps * self.lw.ncols()
+    }
+}

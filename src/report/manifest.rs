@@ -1,0 +1,85 @@
+//! `manifest.json`: the resolved experiment, seed, trials, threads, library versions and timings.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::run::RunOutcome;
+use crate::spec::Experiment;
+
+/// Command-line values that replaced the file's.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Overrides {
+    pub trials: Option<usize>,
+    pub seed: Option<u64>,
+    pub threads: Option<usize>,
+    pub out: Option<String>,
+}
+
+/// Versions of the libraries as pinned in this crate's Cargo.toml.
+pub fn library_versions() -> serde_json::Map<String, serde_json::Value> {
+    let manifest: toml::Table = toml::from_str(include_str!("../../Cargo.toml")).unwrap_or_default();
+    let mut out = serde_json::Map::new();
+    if let Some(deps) = manifest.get("dependencies").and_then(|d| d.as_table()) {
+        for (name, v) in deps {
+            let ver = v.as_str().or_else(|| v.get("version").and_then(|x| x.as_str())).unwrap_or("?");
+            out.insert(name.clone(), serde_json::Value::String(ver.to_string()));
+        }
+    }
+    out
+}
+
+fn matrix(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect()
+}
+
+pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &Path) -> Result<()> {
+    let names = exp.plant.block_names();
+    let scenarios: Vec<_> = out
+        .scenarios
+        .iter()
+        .map(|s| {
+            let blocks: serde_json::Map<_, _> = names
+                .iter()
+                .zip(&s.covariances.blocks)
+                .map(|(n, m)| (n.to_string(), serde_json::json!(matrix(m))))
+                .collect();
+            serde_json::json!({
+                "name": s.name, "covariance": s.covariance_label, "shape": s.shape_label,
+                "covariances": blocks, "mc_seconds": s.mc_seconds,
+            })
+        })
+        .collect();
+    let filters: Vec<_> = exp
+        .filters
+        .iter()
+        .zip(&out.filters)
+        .map(|(f, d)| {
+            serde_json::json!({
+                "name": f.name, "family": f.family, "params": f.params, "design_seconds": d.seconds,
+                "guarantee": d.design.guarantee.as_ref().map(|g| serde_json::json!({"kind": g.kind, "total": g.total})),
+                "worst_case": d.worst.as_ref().map(|w| w.total),
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({
+        "experiment": exp.name,
+        "description": exp.description,
+        "seed": exp.seed,
+        "trials": exp.trials,
+        "threads": out.threads,
+        "pattern": exp.pattern,
+        "horizon": exp.plant.horizon,
+        "overrides": overrides,
+        "filterbench_version": env!("CARGO_PKG_VERSION"),
+        "libraries": library_versions(),
+        "design_seconds": out.design_seconds,
+        "total_seconds": out.total_seconds,
+        "scenarios": scenarios,
+        "filters": filters,
+        "experiment_file": exp.source,
+    });
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| Error::output("manifest.json", e))?;
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}

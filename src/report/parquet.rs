@@ -1,0 +1,227 @@
+//! Parquet tables (polars). Column names and meanings are listed in the README.
+
+use std::path::Path;
+
+use polars::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::montecarlo::McStats;
+use crate::run::RunOutcome;
+use crate::spec::Experiment;
+
+fn write(df: &mut DataFrame, path: &Path) -> Result<()> {
+    let what = path.display().to_string();
+    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    ParquetWriter::new(file).finish(df).map_err(|e| Error::output(&what, e))?;
+    Ok(())
+}
+
+fn frame(cols: Vec<Column>, path: &Path) -> Result<DataFrame> {
+    DataFrame::new_infer_height(cols).map_err(|e| Error::output(path.display().to_string(), e))
+}
+
+fn col<T, P>(name: &str, v: T) -> Column
+where
+    Series: NamedFrom<T, P>,
+    P: ?Sized,
+{
+    Column::new(name.into(), v)
+}
+
+/// One row per (scenario, filter): summed error over the horizon.
+pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+    let mut c = SummaryCols::default();
+    for sc in &out.scenarios {
+        for (f, spec) in exp.filters.iter().enumerate() {
+            let st = &sc.mc.filters[f].total;
+            let d = &out.filters[f];
+            let (lo, hi) = st.ci95();
+            c.experiment.push(exp.name.clone());
+            c.scenario.push(sc.name.clone());
+            c.covariance.push(sc.covariance_label.clone());
+            c.shape.push(sc.shape_label.clone());
+            c.filter.push(spec.name.clone());
+            c.family.push(spec.family.clone());
+            c.n_trials.push(st.n);
+            c.empirical_mean.push(st.mean);
+            c.std_error.push(st.std_error());
+            c.ci_low.push(lo);
+            c.ci_high.push(hi);
+            c.exact.push(Some(sc.exact[f].total));
+            c.guaranteed.push(d.design.guarantee.as_ref().map(|g| g.total));
+            c.guarantee_kind.push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
+            c.worst_case.push(d.worst.as_ref().map(|w| w.total));
+            c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
+            c.violations.push(None);
+            c.design_seconds.push(d.seconds);
+            c.mc_seconds.push(sc.mc_seconds);
+        }
+    }
+    let mut df = frame(
+        vec![
+            col("experiment", c.experiment),
+            col("scenario", c.scenario),
+            col("covariance", c.covariance),
+            col("shape", c.shape),
+            col("filter", c.filter),
+            col("family", c.family),
+            col("n_trials", c.n_trials),
+            col("empirical_mean", c.empirical_mean),
+            col("std_error", c.std_error),
+            col("ci_low", c.ci_low),
+            col("ci_high", c.ci_high),
+            col("exact", c.exact),
+            col("guaranteed", c.guaranteed),
+            col("guarantee_kind", c.guarantee_kind),
+            col("worst_case", c.worst_case),
+            col("worst_case_psd", c.worst_case_psd),
+            col("violations", c.violations),
+            col("design_seconds", c.design_seconds),
+            col("mc_seconds", c.mc_seconds),
+        ],
+        path,
+    )?;
+    write(&mut df, path)
+}
+
+#[derive(Default)]
+struct SummaryCols {
+    experiment: Vec<String>,
+    scenario: Vec<String>,
+    covariance: Vec<String>,
+    shape: Vec<String>,
+    filter: Vec<String>,
+    family: Vec<String>,
+    n_trials: Vec<u64>,
+    empirical_mean: Vec<f64>,
+    std_error: Vec<f64>,
+    ci_low: Vec<f64>,
+    ci_high: Vec<f64>,
+    exact: Vec<Option<f64>>,
+    guaranteed: Vec<Option<f64>>,
+    guarantee_kind: Vec<Option<String>>,
+    worst_case: Vec<Option<f64>>,
+    worst_case_psd: Vec<Option<bool>>,
+    violations: Vec<Option<u64>>,
+    design_seconds: Vec<f64>,
+    mc_seconds: Vec<f64>,
+}
+
+/// One row per (scenario, filter, step).
+pub fn write_steps(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    for sc in &out.scenarios {
+        for (f, spec) in exp.filters.iter().enumerate() {
+            let g = out.filters[f].design.guarantee.as_ref();
+            for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
+                let (l, h) = w.ci95();
+                sc_.push(sc.name.clone());
+                fl.push(spec.name.clone());
+                step.push(k as u32);
+                mean.push(w.mean);
+                lo.push(l);
+                hi.push(h);
+                ex.push(Some(sc.exact[f].per_step[k]));
+                bound.push(g.map(|g| g.per_step[k]));
+            }
+        }
+    }
+    let n = step.len();
+    let mut df = frame(
+        vec![
+            col("experiment", vec![exp.name.as_str(); n]),
+            col("scenario", sc_),
+            col("filter", fl),
+            col("step", step),
+            col("mse_mean", mean),
+            col("mse_ci_low", lo),
+            col("mse_ci_high", hi),
+            col("exact_mse", ex),
+            col("bound", bound),
+        ],
+        path,
+    )?;
+    write(&mut df, path)
+}
+
+/// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value.
+pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+    let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let mut push = |f: &str, k: usize, name: &'static str, m: &nalgebra::DMatrix<f64>| {
+        for j in 0..m.ncols() {
+            for i in 0..m.nrows() {
+                fl.push(f.to_string());
+                step.push(k as u32);
+                mode.push(0u32);
+                mat.push(name);
+                row.push(i as u32);
+                coln.push(j as u32);
+                val.push(m[(i, j)]);
+            }
+        }
+    };
+    for (spec, d) in exp.filters.iter().zip(&out.filters) {
+        let r = &d.design.realization;
+        push(&spec.name, 0, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
+        for (k, g) in r.steps.iter().enumerate() {
+            push(&spec.name, k, "Af", &g.af);
+            push(&spec.name, k, "Bf", &g.bf);
+            push(&spec.name, k, "Cf", &g.cf);
+            push(&spec.name, k, "Df", &g.df);
+            push(&spec.name, k, "Gf", &g.gf);
+        }
+    }
+    let mut df = frame(
+        vec![
+            col("filter", fl),
+            col("step", step),
+            col("mode", mode),
+            col("matrix", mat),
+            col("row", row),
+            col("col", coln),
+            col("value", val),
+        ],
+        path,
+    )?;
+    write(&mut df, path)
+}
+
+/// Paired differences of the summed error between every two filters on the same draws.
+pub fn write_paired(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+    let (mut sc_, mut a, mut b, mut n, mut mean, mut se, mut lo, mut hi, mut ex) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let pairs = McStats::pairs(exp.filters.len());
+    for sc in &out.scenarios {
+        for (w, &(i, j)) in sc.mc.paired.iter().zip(&pairs) {
+            let (l, h) = w.ci95();
+            sc_.push(sc.name.clone());
+            a.push(exp.filters[i].name.clone());
+            b.push(exp.filters[j].name.clone());
+            n.push(w.n);
+            mean.push(w.mean);
+            se.push(w.std_error());
+            lo.push(l);
+            hi.push(h);
+            ex.push(sc.exact[i].total - sc.exact[j].total);
+        }
+    }
+    let rows = n.len();
+    let mut df = frame(
+        vec![
+            col("experiment", vec![exp.name.as_str(); rows]),
+            col("scenario", sc_),
+            col("filter_a", a),
+            col("filter_b", b),
+            col("n_trials", n),
+            col("mean_diff", mean),
+            col("std_error", se),
+            col("ci_low", lo),
+            col("ci_high", hi),
+            col("exact_diff", ex),
+        ],
+        path,
+    )?;
+    write(&mut df, path)
+}

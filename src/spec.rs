@@ -1,0 +1,452 @@
+//! Experiment files: the TOML schema, its parsing (every error names the offending key) and its
+//! validation into a resolved [`Experiment`]. Every key is documented in the README.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::linalg::{Mat, Vector, check_psd, from_rows};
+use crate::noise::{CovChoice, Shape};
+use crate::plant::{Covariances, Plant};
+use crate::uncertainty::CovSet;
+
+type Rows = Vec<Vec<f64>>;
+
+/// Information pattern (SPEC §0): filtering lets ẑ[k] use y[k]; prediction uses y[0..k-1] only.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Pattern {
+    Filtering,
+    Prediction,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExperimentFile {
+    description: String,
+    seed: u64,
+    trials: usize,
+    pattern: Pattern,
+    #[serde(default = "default_samples")]
+    sample_trajectories: usize,
+    plant: PlantFile,
+    nominal: BTreeMap<String, Rows>,
+    #[serde(default)]
+    sets: BTreeMap<String, SetFile>,
+    scenarios: Vec<ScenarioFile>,
+    filters: Vec<FilterFile>,
+}
+
+fn default_samples() -> usize {
+    3
+}
+
+#[allow(non_snake_case)]
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlantFile {
+    horizon: usize,
+    A: Rows,
+    B: Rows,
+    C: Rows,
+    D: Rows,
+    Cz: Option<Rows>,
+    Dz: Option<Rows>,
+    x0_mean: Option<Vec<f64>>,
+    noise_blocks: Vec<String>,
+    #[serde(default)]
+    first_measurement: usize,
+    known_input: Option<KnownInputFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum KnownInputFile {
+    /// r[k] given row by row, one row per step k = 0..N-1.
+    Values { values: Rows },
+    /// r_i[k] = amplitude_i · sin(frequency · k + phase).
+    Sine { amplitude: Vec<f64>, frequency: f64, #[serde(default)] phase: f64 },
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum SetFile {
+    Box { half_width: HalfWidth },
+    Ball { radius: f64 },
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum HalfWidth {
+    Scalar(f64),
+    Matrix(Rows),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ScenarioFile {
+    name: String,
+    #[serde(default)]
+    covariance: CovChoiceFile,
+    #[serde(default)]
+    shape: Shape,
+}
+
+/// A covariance choice as written in a file (`{ kind = …, … }`); see [`CovChoice`].
+#[derive(Deserialize, Default)]
+#[serde(try_from = "CovChoiceRaw")]
+pub(crate) enum CovChoiceFile {
+    #[default]
+    Nominal,
+    Given { blocks: BTreeMap<String, Rows> },
+    Vertex { seed: u64 },
+    Interior { seed: u64 },
+    WorstFor { filter: String },
+}
+
+/// `given` names its blocks as keys beside `kind`, so the table is read flat and checked here: any
+/// key the kind does not take is an error, as everywhere else.
+#[derive(Deserialize)]
+struct CovChoiceRaw {
+    kind: String,
+    seed: Option<u64>,
+    filter: Option<String>,
+    #[serde(flatten)]
+    blocks: BTreeMap<String, Rows>,
+}
+
+impl TryFrom<CovChoiceRaw> for CovChoiceFile {
+    type Error = String;
+    fn try_from(r: CovChoiceRaw) -> std::result::Result<Self, String> {
+        let allowed: &[&str] = match r.kind.as_str() {
+            "nominal" | "given" => &[],
+            "vertex" | "interior" => &["seed"],
+            "worst_for" => &["filter"],
+            k => return Err(format!("unknown covariance kind `{k}` (known: nominal, given, vertex, interior, worst_for)")),
+        };
+        let extra = [("seed", r.seed.is_some()), ("filter", r.filter.is_some())]
+            .into_iter()
+            .find(|(k, present)| *present && !allowed.contains(k));
+        if let Some((k, _)) = extra {
+            return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
+        }
+        if r.kind != "given" {
+            if let Some(k) = r.blocks.keys().next() {
+                return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
+            }
+        }
+        let need = |v: Option<u64>| v.ok_or_else(|| format!("missing field `seed` for kind `{}`", r.kind));
+        Ok(match r.kind.as_str() {
+            "nominal" => CovChoiceFile::Nominal,
+            "given" => CovChoiceFile::Given { blocks: r.blocks },
+            "vertex" => CovChoiceFile::Vertex { seed: need(r.seed)? },
+            "interior" => CovChoiceFile::Interior { seed: need(r.seed)? },
+            _ => CovChoiceFile::WorstFor { filter: r.filter.ok_or("missing field `filter` for kind `worst_for`")? },
+        })
+    }
+}
+
+#[derive(Deserialize)]
+struct FilterFile {
+    name: String,
+    family: String,
+    #[serde(flatten)]
+    params: toml::Table,
+}
+
+/// A scenario: which covariance the noise has and which distribution shape it is drawn with.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    pub name: String,
+    pub covariance: CovChoice,
+    pub shape: Shape,
+}
+
+/// A filter entry: its name, its family, and the family's own parameters (parsed by the family).
+#[derive(Clone, Debug)]
+pub struct FilterSpec {
+    pub name: String,
+    pub family: String,
+    pub params: toml::Table,
+}
+
+/// A validated experiment, ready to design and run.
+#[derive(Clone, Debug)]
+pub struct Experiment {
+    pub name: String,
+    pub description: String,
+    pub seed: u64,
+    pub trials: usize,
+    pub pattern: Pattern,
+    pub sample_trajectories: usize,
+    pub plant: Plant,
+    pub nominal: Covariances,
+    /// The uncertainty set of each covariance block (index as in `Covariances::blocks`), if any.
+    pub sets: Vec<Option<CovSet>>,
+    pub scenarios: Vec<Scenario>,
+    pub filters: Vec<FilterSpec>,
+    /// The file text, kept for the manifest.
+    pub source: String,
+}
+
+impl Experiment {
+    pub fn has_sets(&self) -> bool {
+        self.sets.iter().any(Option::is_some)
+    }
+    pub fn filter_index(&self, name: &str) -> Option<usize> {
+        self.filters.iter().position(|f| f.name == name)
+    }
+}
+
+/// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
+pub fn load(path: &Path) -> Result<Experiment> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
+    parse(&name, &path.display().to_string(), &text)
+}
+
+/// Parses experiment text; `file` is only used in messages.
+pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
+    let raw: ExperimentFile = deserialize(file, text)?;
+    resolve(name, raw, text)
+}
+
+fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
+    let line_of = |span: Option<std::ops::Range<usize>>| {
+        span.map(|s| format!(" (line {})", text[..s.start.min(text.len())].lines().count().max(1)))
+            .unwrap_or_default()
+    };
+    let de = toml::Deserializer::parse(text).map_err(|e| Error::Parse {
+        file: file.to_string(),
+        message: format!("TOML syntax: {}{}", e.message().trim(), line_of(e.span())),
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.inner();
+        let key = if path == "." { String::new() } else { format!("key `{path}`: ") };
+        Error::Parse { file: file.to_string(), message: format!("{key}{}{}", inner.message().trim(), line_of(inner.span())) }
+    })
+}
+
+/// Parses one family's parameter table with the family's own schema (unknown keys are errors).
+pub fn family_params<T: serde::de::DeserializeOwned>(filter: &FilterSpec) -> Result<T> {
+    let v = toml::Value::Table(filter.params.clone());
+    serde_path_to_error::deserialize(v).map_err(|e| {
+        let path = e.path().to_string();
+        let key = if path == "." { format!("filters.{}", filter.name) } else { format!("filters.{}.{path}", filter.name) };
+        Error::invalid(key, e.inner().message().trim().to_string())
+    })
+}
+
+/// Resolves a covariance given block by block (missing blocks fall back to `nominal`). `key`
+/// prefixes the error messages.
+pub(crate) fn given_covariances(
+    key: &str,
+    plant: &Plant,
+    nominal: &Covariances,
+    blocks: &BTreeMap<String, Rows>,
+) -> Result<Covariances> {
+    let names = plant.block_names();
+    let mut out = nominal.clone();
+    for (bname, rows) in blocks {
+        let i = names.iter().position(|n| n == bname).ok_or_else(|| {
+            Error::invalid(format!("{key}.{bname}"), format!("unknown covariance block (known: {})", names.join(", ")))
+        })?;
+        let d = nominal.blocks[i].nrows();
+        let m = from_rows(&format!("{key}.{bname}"), rows, Some((d, d)))?;
+        check_psd(&format!("{key}.{bname}"), &m)?;
+        out.blocks[i] = m;
+    }
+    Ok(out)
+}
+
+fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
+    let p = &f.plant;
+    if p.horizon == 0 {
+        return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
+    }
+    if f.trials < 2 {
+        return Err(Error::invalid("trials", "at least 2 trials are needed for a confidence interval"));
+    }
+    let a = from_rows("plant.A", &p.A, None)?;
+    let n = a.nrows();
+    if n == 0 || !a.is_square() {
+        return Err(Error::invalid("plant.A", format!("must be square and non-empty, found {}×{}", a.nrows(), a.ncols())));
+    }
+    let b = from_rows("plant.B", &p.B, None)?;
+    if b.nrows() != n {
+        return Err(Error::invalid("plant.B", format!("expected {n} rows (the state dimension), found {}", b.nrows())));
+    }
+    let nw = b.ncols();
+    let c = from_rows("plant.C", &p.C, None)?;
+    if c.ncols() != n {
+        return Err(Error::invalid("plant.C", format!("expected {n} columns (the state dimension), found {}", c.ncols())));
+    }
+    let ny = c.nrows();
+    let d = from_rows("plant.D", &p.D, Some((ny, nw)))?;
+    let cz = match &p.Cz {
+        Some(r) => from_rows("plant.Cz", r, None)?,
+        None => Mat::identity(n, n),
+    };
+    if cz.ncols() != n {
+        return Err(Error::invalid("plant.Cz", format!("expected {n} columns (the state dimension), found {}", cz.ncols())));
+    }
+    let nz = cz.nrows();
+    let dz = match &p.Dz {
+        Some(r) => from_rows("plant.Dz", r, Some((nz, nw)))?,
+        None => Mat::zeros(nz, nw),
+    };
+    let x0_mean = match &p.x0_mean {
+        Some(v) if v.len() != n => {
+            return Err(Error::invalid("plant.x0_mean", format!("expected {n} entries, found {}", v.len())));
+        }
+        Some(v) => Vector::from_column_slice(v),
+        None => Vector::zeros(n),
+    };
+    if p.first_measurement > p.horizon {
+        return Err(Error::invalid("plant.first_measurement", "must not exceed the horizon"));
+    }
+    let known_input = match &p.known_input {
+        None => Vec::new(),
+        Some(KnownInputFile::Values { values }) => {
+            let m = from_rows("plant.known_input.values", values, Some((p.horizon, n)))?;
+            (0..p.horizon).map(|k| m.row(k).transpose()).collect()
+        }
+        Some(KnownInputFile::Sine { amplitude, frequency, phase }) => {
+            if amplitude.len() != n {
+                return Err(Error::invalid(
+                    "plant.known_input.amplitude",
+                    format!("expected {n} entries, found {}", amplitude.len()),
+                ));
+            }
+            (0..p.horizon)
+                .map(|k| Vector::from_iterator(n, amplitude.iter().map(|a| a * (frequency * k as f64 + phase).sin())))
+                .collect()
+        }
+    };
+
+    // Covariance blocks: x0 first, then the noise blocks in the order `plant.noise_blocks` gives.
+    let mut seen = std::collections::BTreeSet::new();
+    for bn in &p.noise_blocks {
+        if bn == "x0" || !seen.insert(bn.as_str()) {
+            return Err(Error::invalid("plant.noise_blocks", format!("block name `{bn}` is reserved or repeated")));
+        }
+    }
+    for key in f.nominal.keys() {
+        if key != "x0" && !seen.contains(key.as_str()) {
+            return Err(Error::invalid(
+                format!("nominal.{key}"),
+                "not a covariance block: expected `x0` or one of plant.noise_blocks",
+            ));
+        }
+    }
+    let mut blocks = Vec::new();
+    let mut dims = Vec::new();
+    for bn in std::iter::once("x0").chain(p.noise_blocks.iter().map(String::as_str)) {
+        let key = format!("nominal.{bn}");
+        let rows = f.nominal.get(bn).ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
+        let m = from_rows(&key, rows, None)?;
+        if bn == "x0" && m.shape() != (n, n) {
+            return Err(Error::invalid(key, format!("expected a {n}×{n} matrix, found {}×{}", m.nrows(), m.ncols())));
+        }
+        check_psd(&key, &m)?;
+        if bn != "x0" {
+            dims.push((bn.to_string(), m.nrows()));
+        }
+        blocks.push(m);
+    }
+    let total: usize = dims.iter().map(|(_, d)| d).sum();
+    if total != nw {
+        return Err(Error::invalid(
+            "nominal",
+            format!("the noise blocks have {total} components in all but plant.B has {nw} columns"),
+        ));
+    }
+    let plant = Plant::new(p.horizon, a, b, c, d, cz, dz, x0_mean, p.first_measurement, known_input, dims);
+    let nominal = Covariances { blocks };
+
+    let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
+    let mut sets: Vec<Option<CovSet>> = vec![None; names.len()];
+    for (bn, s) in &f.sets {
+        let key = format!("sets.{bn}");
+        let i = names.iter().position(|n| n == bn).ok_or_else(|| {
+            Error::invalid(&key, format!("unknown covariance block (known: {})", names.join(", ")))
+        })?;
+        let center = nominal.blocks[i].clone();
+        let d = center.nrows();
+        sets[i] = Some(match s {
+            SetFile::Box { half_width } => {
+                let hw = match half_width {
+                    HalfWidth::Scalar(v) => Mat::from_element(d, d, *v),
+                    HalfWidth::Matrix(r) => from_rows(&format!("{key}.half_width"), r, Some((d, d)))?,
+                };
+                CovSet::new_box(&key, center, hw)?
+            }
+            SetFile::Ball { radius } => CovSet::new_ball(&key, center, *radius)?,
+        });
+    }
+
+    if f.filters.is_empty() {
+        return Err(Error::invalid("filters", "the experiment names no filter"));
+    }
+    let mut fnames = std::collections::BTreeSet::new();
+    for (i, fl) in f.filters.iter().enumerate() {
+        if !fnames.insert(fl.name.as_str()) {
+            return Err(Error::invalid(format!("filters[{i}].name"), format!("filter name `{}` is repeated", fl.name)));
+        }
+        if !crate::families::registry::is_family(&fl.family) {
+            return Err(Error::invalid(
+                format!("filters.{}.family", fl.name),
+                format!("unknown family `{}` (known: {})", fl.family, crate::families::registry::FAMILIES.join(", ")),
+            ));
+        }
+    }
+    let filters: Vec<FilterSpec> =
+        f.filters.into_iter().map(|fl| FilterSpec { name: fl.name, family: fl.family, params: fl.params }).collect();
+
+    if f.scenarios.is_empty() {
+        return Err(Error::invalid("scenarios", "the experiment names no scenario"));
+    }
+    let has_sets = sets.iter().any(Option::is_some);
+    let mut scenarios = Vec::new();
+    let mut snames = std::collections::BTreeSet::new();
+    for (i, s) in f.scenarios.into_iter().enumerate() {
+        if !snames.insert(s.name.clone()) {
+            return Err(Error::invalid(format!("scenarios[{i}].name"), format!("scenario name `{}` is repeated", s.name)));
+        }
+        let key = format!("scenarios.{}.covariance", s.name);
+        let covariance = CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
+        s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
+        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape });
+    }
+    if f.sample_trajectories > f.trials {
+        return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));
+    }
+
+    Ok(Experiment {
+        name: name.to_string(),
+        description: f.description,
+        seed: f.seed,
+        trials: f.trials,
+        pattern: f.pattern,
+        sample_trajectories: f.sample_trajectories,
+        plant,
+        nominal,
+        sets,
+        scenarios,
+        filters,
+        source: text.to_string(),
+    })
+}
+
+/// The one-line description of an experiment file, for `filterbench list` (None if unreadable).
+pub fn describe(path: &Path) -> Option<String> {
+    #[derive(Deserialize)]
+    struct Head {
+        description: String,
+    }
+    let text = std::fs::read_to_string(path).ok()?;
+    toml::from_str::<Head>(&text).ok().map(|h| h.description)
+}

@@ -1,0 +1,105 @@
+//! Bad input gets one clear line naming the key or path and the cause, a non-zero exit, no panic,
+//! and leaves the output folder as it was.
+
+use std::path::Path;
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_filterbench");
+
+fn baseline_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml")).unwrap()
+}
+
+/// Runs `experiment FILE --out DIR` where DIR already holds a previous result, and checks the run
+/// fails cleanly, mentions every `needles`, and leaves DIR untouched.
+fn fails_cleanly(text: &str, needles: &[&str]) {
+    let tmp = crate::common::TempDir::new();
+    let file = tmp.path().join("bad.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = tmp.path().join("results").join("bad");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("summary.parquet"), b"previous").unwrap();
+    let o = Command::new(BIN)
+        .args(["experiment", file.to_str().unwrap(), "--trials", "2", "--quiet", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    check_failure(&o, needles);
+    let entries: Vec<_> = std::fs::read_dir(out.parent().unwrap()).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(entries, vec![std::ffi::OsString::from("bad")], "no temporary folder is left behind");
+    assert_eq!(std::fs::read(out.join("summary.parquet")).unwrap(), b"previous", "previous results untouched");
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
+}
+
+fn check_failure(o: &std::process::Output, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "must fail; stderr: {err}");
+    assert_ne!(o.status.code(), Some(101), "a panic exits with 101: {err}");
+    assert!(!err.contains("panicked"), "no panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    for n in needles {
+        assert!(err.contains(n), "message should mention `{n}`: {err}");
+    }
+}
+
+#[test]
+fn unknown_key() {
+    let t = baseline_text().replace("first_measurement = 1", "first_measurement = 1\nhorizn = 3");
+    fails_cleanly(&t, &["plant", "unknown field `horizn`"]);
+}
+
+#[test]
+fn missing_field() {
+    let t = baseline_text().replace("trials = 20000\n", "");
+    fails_cleanly(&t, &["missing field `trials`"]);
+}
+
+#[test]
+fn wrong_matrix_size() {
+    let t = baseline_text().replace("C = [[0.5, 0.4,  0.1],", "C = [[0.5, 0.4],");
+    fails_cleanly(&t, &["plant.C", "row 2 has 3 entries"]);
+    let t = baseline_text().replace("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 0], [0, 1]]");
+    fails_cleanly(&t, &["nominal.x0", "3×3"]);
+}
+
+#[test]
+fn covariance_not_symmetric_or_not_psd() {
+    let t = baseline_text().replace("measurement = [[ 0.9, -0.4, 0.2],", "measurement = [[ 0.9, -0.3, 0.2],");
+    fails_cleanly(&t, &["nominal.measurement", "not symmetric"]);
+    let t = baseline_text().replace("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 2, 0], [2, 1, 0], [0, 0, 1]]");
+    fails_cleanly(&t, &["nominal.x0", "not positive semidefinite"]);
+}
+
+#[test]
+fn horizon_zero() {
+    let t = baseline_text().replace("horizon = 50", "horizon = 0");
+    fails_cleanly(&t, &["plant.horizon", "at least 1"]);
+}
+
+#[test]
+fn unknown_family_and_filter_reference() {
+    let t = baseline_text().replacen("family = \"kalman\"", "family = \"kalmann\"", 1);
+    fails_cleanly(&t, &["filters.kalman_nominal.family", "unknown family"]);
+    let t = baseline_text().replace("filter = \"kalman_nominal\" }", "filter = \"nobody\" }");
+    fails_cleanly(&t, &["scenarios.worst_for_kalman_nominal.covariance.filter", "nobody"]);
+}
+
+#[test]
+fn nonexistent_experiment_name() {
+    let o = Command::new(BIN).args(["experiment", "no_such_experiment", "--quiet"]).output().unwrap();
+    check_failure(&o, &["no_such_experiment", "filterbench list"]);
+}
+
+#[test]
+fn unwritable_output_folder() {
+    let tmp = crate::common::TempDir::new();
+    let blocker = tmp.path().join("a_file");
+    std::fs::write(&blocker, b"x").unwrap();
+    let out = blocker.join("results");
+    let o = Command::new(BIN)
+        .args(["experiment", "kalman_baseline", "--trials", "2", "--quiet", "--out", out.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    check_failure(&o, &[blocker.to_str().unwrap()]);
+    assert!(!Path::new(&out).exists());
+}

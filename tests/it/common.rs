@@ -1,0 +1,99 @@
+//! Shared fixtures.
+
+use filterbench::spec::{self, Experiment};
+
+/// The shipped `kalman_baseline` experiment with `trials` trials.
+pub fn baseline(trials: usize) -> Experiment {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml");
+    let mut e = spec::load(std::path::Path::new(path)).expect("kalman_baseline parses");
+    e.trials = trials;
+    e
+}
+
+/// A small plant that exercises what kalman_baseline does not: prediction, noise shared between
+/// the state and the measurement (B and D use the same components of w), a nonzero x0 mean, a
+/// known input, Dz ≠ 0, and every distribution shape.
+pub const SHAPES_TOML: &str = r#"
+description = "test plant with correlated noise, known input and every shape"
+seed = 7
+trials = 6000
+pattern = "PATTERN"
+sample_trajectories = 1
+
+[plant]
+horizon = 20
+noise_blocks = ["w"]
+A = [[0.9, 0.5], [-0.3, 0.7]]
+B = [[1.0, 0.0, 0.2], [0.3, 0.8, 0.0]]
+C = [[1.0, 0.5]]
+D = [[0.2, 0.0, 0.7]]
+Cz = [[1.0, 0.0], [0.0, 1.0], [1.0, -1.0]]
+Dz = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.1, 0.0, 0.0]]
+x0_mean = [1.0, -2.0]
+known_input = { kind = "sine", amplitude = [0.0, 0.5], frequency = 0.3 }
+
+[nominal]
+x0 = [[2.0, 0.3], [0.3, 1.0]]
+w = [[1.0, 0.2, 0.0], [0.2, 0.5, 0.1], [0.0, 0.1, 0.8]]
+
+[[filters]]
+name = "kalman"
+family = "kalman"
+
+[[filters]]
+name = "kalman_other"
+family = "kalman"
+design = { kind = "given", w = [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 2.0]] }
+
+[[scenarios]]
+name = "gaussian"
+
+[[scenarios]]
+name = "uniform"
+shape = { kind = "uniform" }
+
+[[scenarios]]
+name = "laplace"
+shape = { kind = "laplace" }
+
+[[scenarios]]
+name = "student_t"
+shape = { kind = "student_t", nu = 6 }
+
+[[scenarios]]
+name = "rademacher"
+shape = { kind = "rademacher" }
+
+[[scenarios]]
+name = "mixture"
+shape = { kind = "mixture", weight = 0.1, ratio = 4.0 }
+"#;
+
+pub fn shapes(pattern: &str) -> Experiment {
+    spec::parse("shapes", "shapes.toml", &SHAPES_TOML.replace("PATTERN", pattern)).expect("test plant parses")
+}
+
+/// A fresh folder under the system temp dir, removed on drop. (No dev-dependency for this: a
+/// dev-dependency changes the features cargo resolves, so `cargo run` after `cargo test` would
+/// rebuild half the dependency tree.)
+pub struct TempDir(std::path::PathBuf);
+
+impl TempDir {
+    pub fn new() -> Self {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        static N: AtomicUsize = AtomicUsize::new(0);
+        let p = std::env::temp_dir().join(format!("filterbench-test-{}-{}", std::process::id(), N.fetch_add(1, Ordering::Relaxed)));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        TempDir(p)
+    }
+    pub fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}

@@ -1,0 +1,11 @@
+//! Integration and statistical regression tests (one test binary: every extra one would link the
+//! whole dependency tree again). Statistical tests use fixed seeds; their tolerances are stated in
+//! standard errors (σ) of the Monte Carlo estimate next to each assertion.
+
+mod bad_input;
+mod common;
+mod determinism;
+mod end_to_end;
+mod exact_vs_mc;
+mod generators;
+mod kalman;
