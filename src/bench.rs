@@ -15,7 +15,13 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let covs = run::scenario_covariances(exp, &filters)?;
     let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
     let sampler = NoiseSampler::new(&exp.plant, &covs[0], &exp.scenarios[0].shape);
-    let sc = montecarlo::Scenario { plant: &exp.plant, filters: &reals, sampler: &sampler, seed: exp.seed, index: 0 };
+    let sc = montecarlo::Scenario {
+        plant: &exp.plant,
+        filters: &reals,
+        sampler: &sampler,
+        seed: exp.seed,
+        index: 0,
+    };
     let trials = exp.trials as u64;
     let steps = exp.plant.steps() as f64;
     let mut s = String::new();
@@ -55,8 +61,18 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let rnd = t.elapsed().as_secs_f64();
     std::hint::black_box(sink);
 
-    let _ = writeln!(s, "engine (parallel, with accumulators): {:.3} s, {:.3e} trial-steps/s", par, trials as f64 * steps / par);
-    let _ = writeln!(s, "one thread, whole trials:             {:.3} s, {:.2} µs per trial", one, one / trials as f64 * 1e6);
+    let _ = writeln!(
+        s,
+        "engine (parallel, with accumulators): {:.3} s, {:.3e} trial-steps/s",
+        par,
+        trials as f64 * steps / par
+    );
+    let _ = writeln!(
+        s,
+        "one thread, whole trials:             {:.3} s, {:.2} µs per trial",
+        one,
+        one / trials as f64 * 1e6
+    );
     let _ = writeln!(
         s,
         "one thread, drawing only:             {:.3} s, {:.2} µs per trial ({} scalars), {:.0} % of a trial",

@@ -31,9 +31,11 @@ fn augmented(plant: &Plant, real: &Realization, k: usize) -> Augmented {
     f.view_mut((n, n), (ns, ns)).copy_from(&gk.af);
     let mut e = Mat::zeros(n + ns, plant.nw());
     e.view_mut((0, 0), (n, plant.nw())).copy_from(&plant.b);
-    e.view_mut((n, 0), (ns, plant.nw())).copy_from(&(&gk.bf * d));
+    e.view_mut((n, 0), (ns, plant.nw()))
+        .copy_from(&(&gk.bf * d));
     let mut h = Mat::zeros(plant.nz(), n + ns);
-    h.view_mut((0, 0), (plant.nz(), n)).copy_from(&(&plant.cz - &gk.df * c));
+    h.view_mut((0, 0), (plant.nz(), n))
+        .copy_from(&(&plant.cz - &gk.df * c));
     h.view_mut((0, n), (plant.nz(), ns)).copy_from(&(-&gk.cf));
     let g = &plant.dz - &gk.df * d;
     Augmented { f, e, h, g }
@@ -59,10 +61,14 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
     for k in 0..plant.steps() {
         let aug = augmented(plant, real, k);
         let em = &aug.h * &mean;
-        let mse = em.norm_squared() + (&aug.h * &sigma * aug.h.transpose()).trace() + (&aug.g * &w * aug.g.transpose()).trace();
+        let mse = em.norm_squared()
+            + (&aug.h * &sigma * aug.h.transpose()).trace()
+            + (&aug.g * &w * aug.g.transpose()).trace();
         per_step.push(mse);
         if k < plant.horizon {
-            sigma = symmetrize(&(&aug.f * &sigma * aug.f.transpose() + &aug.e * &w * aug.e.transpose()));
+            sigma = symmetrize(
+                &(&aug.f * &sigma * aug.f.transpose() + &aug.e * &w * aug.e.transpose()),
+            );
             let mut next = &aug.f * &mean;
             if let Some(r) = plant.r_at(k) {
                 next.rows_mut(0, n).axpy(1.0, r, 1.0);
@@ -114,7 +120,12 @@ pub struct WorstCase {
 }
 
 /// max over the sets of J(K): J(center) + Σ_i max_{K_i ∈ set_i} ⟨∂J/∂K_i, K_i − center_i⟩.
-pub fn worst_case(plant: &Plant, real: &Realization, center: &Covariances, sets: &[Option<CovSet>]) -> Option<WorstCase> {
+pub fn worst_case(
+    plant: &Plant,
+    real: &Realization,
+    center: &Covariances,
+    sets: &[Option<CovSet>],
+) -> Option<WorstCase> {
     if sets.iter().all(Option::is_none) {
         return None;
     }
@@ -128,6 +139,8 @@ pub fn worst_case(plant: &Plant, real: &Realization, center: &Covariances, sets:
             argmax.blocks[i] = s;
         }
     }
-    let psd = argmax.blocks.iter().all(|m| crate::linalg::min_eigenvalue(m) >= -crate::linalg::PSD_TOL * m.amax().max(1e-300));
+    let psd = argmax.blocks.iter().all(|m| {
+        crate::linalg::min_eigenvalue(m) >= -crate::linalg::PSD_TOL * m.amax().max(1e-300)
+    });
     Some(WorstCase { total, argmax, psd })
 }

@@ -38,7 +38,13 @@ pub struct McStats {
 impl McStats {
     fn new(nf: usize, steps: usize) -> Self {
         McStats {
-            filters: vec![FilterStats { total: Welford::default(), steps: vec![Welford::default(); steps] }; nf],
+            filters: vec![
+                FilterStats {
+                    total: Welford::default(),
+                    steps: vec![Welford::default(); steps]
+                };
+                nf
+            ],
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
         }
     }
@@ -55,7 +61,9 @@ impl McStats {
     }
     /// The pairs (i, j) in the order of `paired`.
     pub fn pairs(nf: usize) -> Vec<(usize, usize)> {
-        (0..nf).flat_map(|i| (i + 1..nf).map(move |j| (i, j))).collect()
+        (0..nf)
+            .flat_map(|i| (i + 1..nf).map(move |j| (i, j)))
+            .collect()
     }
 }
 
@@ -99,7 +107,12 @@ impl Workspace {
 /// Runs trial `trial`: draws its noise, simulates the plant, runs every filter on the same y, and
 /// calls `visit(k, f, z, ẑ)` for each step k and filter f.
 #[inline]
-pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl FnMut(usize, usize, &Vector, &Vector)) {
+pub fn run_trial(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    trial: u64,
+    mut visit: impl FnMut(usize, usize, &Vector, &Vector),
+) {
     let mut rng = trial_rng(sc.seed, sc.index, trial);
     sc.sampler.draw_into(&mut rng, &mut ws.draw);
     let p = sc.plant;
@@ -134,7 +147,10 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
 }
 
 fn squared_error(z: &Vector, zhat: &Vector) -> f64 {
-    z.iter().zip(zhat.iter()).map(|(a, b)| (a - b) * (a - b)).sum()
+    z.iter()
+        .zip(zhat.iter())
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum()
 }
 
 fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStats {
@@ -160,25 +176,31 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
     st
 }
 
+/// Blocks run in parallel per wave; a wave's results are merged before the next starts, so memory
+/// stays bounded by `WAVE` accumulators whatever the number of trials.
+const WAVE: u64 = 256;
+
 /// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
 /// number of trials finished by each block.
 pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McStats {
-    let blocks: Vec<(u64, u64)> =
-        (0..trials.div_ceil(BLOCK)).map(|b| (b * BLOCK, ((b + 1) * BLOCK).min(trials))).collect();
-    let parts: Vec<McStats> = blocks
-        .par_iter()
-        .map_init(
-            || Workspace::new(sc),
-            |ws, &(a, b)| {
-                let st = run_block(sc, ws, a, b);
-                progress(b - a);
-                st
-            },
-        )
-        .collect();
     let mut out = McStats::new(sc.filters.len(), sc.plant.steps());
-    for p in &parts {
-        out.merge(p);
+    let nblocks = trials.div_ceil(BLOCK);
+    for wave in (0..nblocks).step_by(WAVE as usize) {
+        let parts: Vec<McStats> = (wave..(wave + WAVE).min(nblocks))
+            .into_par_iter()
+            .map_init(
+                || Workspace::new(sc),
+                |ws, b| {
+                    let (first, last) = (b * BLOCK, ((b + 1) * BLOCK).min(trials));
+                    let st = run_block(sc, ws, first, last);
+                    progress(last - first);
+                    st
+                },
+            )
+            .collect();
+        for p in &parts {
+            out.merge(p);
+        }
     }
     out
 }
@@ -197,7 +219,11 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
     let (nz, steps) = (sc.plant.nz(), sc.plant.steps());
     (0..count)
         .map(|t| {
-            let mut tr = Trajectory { trial: t, z: Mat::zeros(nz, steps), zhat: vec![Mat::zeros(nz, steps); sc.filters.len()] };
+            let mut tr = Trajectory {
+                trial: t,
+                z: Mat::zeros(nz, steps),
+                zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
+            };
             run_trial(sc, &mut ws, t, |k, f, z, zhat| {
                 if f == 0 {
                     tr.z.set_column(k, z);

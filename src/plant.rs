@@ -47,7 +47,21 @@ impl Plant {
     ) -> Self {
         let c_none = Mat::zeros(c.nrows(), c.ncols());
         let d_none = Mat::zeros(d.nrows(), d.ncols());
-        Plant { horizon, a, b, c, d, cz, dz, x0_mean, first_measurement, known_input, noise_blocks, c_none, d_none }
+        Plant {
+            horizon,
+            a,
+            b,
+            c,
+            d,
+            cz,
+            dz,
+            x0_mean,
+            first_measurement,
+            known_input,
+            noise_blocks,
+            c_none,
+            d_none,
+        }
     }
     pub fn nx(&self) -> usize {
         self.a.nrows()
@@ -69,11 +83,19 @@ impl Plant {
     }
     /// C[k]: zero before the first measurement.
     pub fn c_at(&self, k: usize) -> &Mat {
-        if self.measured(k) { &self.c } else { &self.c_none }
+        if self.measured(k) {
+            &self.c
+        } else {
+            &self.c_none
+        }
     }
     /// D[k]: zero before the first measurement.
     pub fn d_at(&self, k: usize) -> &Mat {
-        if self.measured(k) { &self.d } else { &self.d_none }
+        if self.measured(k) {
+            &self.d
+        } else {
+            &self.d_none
+        }
     }
     /// r[k], or None when the plant has no known input.
     pub fn r_at(&self, k: usize) -> Option<&Vector> {
@@ -81,7 +103,9 @@ impl Plant {
     }
     /// Names of the covariance blocks: "x0" first, then the noise blocks of w.
     pub fn block_names(&self) -> Vec<&str> {
-        std::iter::once("x0").chain(self.noise_blocks.iter().map(|(n, _)| n.as_str())).collect()
+        std::iter::once("x0")
+            .chain(self.noise_blocks.iter().map(|(n, _)| n.as_str()))
+            .collect()
     }
 }
 

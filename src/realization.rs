@@ -56,7 +56,14 @@ impl Realization {
     /// Checks sizes against the plant and, for prediction, that ẑ[k] does not use y[k].
     pub fn check(&self, name: &str, plant: &Plant, pattern: Pattern) -> Result<()> {
         if self.steps.len() != plant.steps() {
-            return Err(Error::design(name, format!("{} steps of gains for a horizon of {}", self.steps.len(), plant.steps())));
+            return Err(Error::design(
+                name,
+                format!(
+                    "{} steps of gains for a horizon of {}",
+                    self.steps.len(),
+                    plant.steps()
+                ),
+            ));
         }
         let ns = self.ns();
         for (k, g) in self.steps.iter().enumerate() {
@@ -66,10 +73,16 @@ impl Realization {
                 && g.df.shape() == (plant.nz(), plant.ny())
                 && g.gf.shape() == (ns, plant.nx());
             if !ok {
-                return Err(Error::design(name, format!("gain sizes at step {k} do not fit the plant")));
+                return Err(Error::design(
+                    name,
+                    format!("gain sizes at step {k} do not fit the plant"),
+                ));
             }
             if pattern == Pattern::Prediction && g.df.amax() != 0.0 {
-                return Err(Error::design(name, format!("a predictor must have Df = 0, but step {k} uses y[k]")));
+                return Err(Error::design(
+                    name,
+                    format!("a predictor must have Df = 0, but step {k} uses y[k]"),
+                ));
             }
         }
         Ok(())

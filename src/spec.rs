@@ -67,7 +67,12 @@ enum KnownInputFile {
     /// r[k] given row by row, one row per step k = 0..N-1.
     Values { values: Rows },
     /// r_i[k] = amplitude_i · sin(frequency · k + phase).
-    Sine { amplitude: Vec<f64>, frequency: f64, #[serde(default)] phase: f64 },
+    Sine {
+        amplitude: Vec<f64>,
+        frequency: f64,
+        #[serde(default)]
+        phase: f64,
+    },
 }
 
 #[derive(Deserialize)]
@@ -100,10 +105,18 @@ struct ScenarioFile {
 pub(crate) enum CovChoiceFile {
     #[default]
     Nominal,
-    Given { blocks: BTreeMap<String, Rows> },
-    Vertex { seed: u64 },
-    Interior { seed: u64 },
-    WorstFor { filter: String },
+    Given {
+        blocks: BTreeMap<String, Rows>,
+    },
+    Vertex {
+        seed: u64,
+    },
+    Interior {
+        seed: u64,
+    },
+    WorstFor {
+        filter: String,
+    },
 }
 
 /// `given` names its blocks as keys beside `kind`, so the table is read flat and checked here: any
@@ -124,7 +137,11 @@ impl TryFrom<CovChoiceRaw> for CovChoiceFile {
             "nominal" | "given" => &[],
             "vertex" | "interior" => &["seed"],
             "worst_for" => &["filter"],
-            k => return Err(format!("unknown covariance kind `{k}` (known: nominal, given, vertex, interior, worst_for)")),
+            k => {
+                return Err(format!(
+                    "unknown covariance kind `{k}` (known: nominal, given, vertex, interior, worst_for)"
+                ));
+            }
         };
         let extra = [("seed", r.seed.is_some()), ("filter", r.filter.is_some())]
             .into_iter()
@@ -132,18 +149,25 @@ impl TryFrom<CovChoiceRaw> for CovChoiceFile {
         if let Some((k, _)) = extra {
             return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
         }
-        if r.kind != "given" {
-            if let Some(k) = r.blocks.keys().next() {
-                return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
-            }
+        if let Some(k) = r.blocks.keys().next().filter(|_| r.kind != "given") {
+            return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
         }
-        let need = |v: Option<u64>| v.ok_or_else(|| format!("missing field `seed` for kind `{}`", r.kind));
+        let need =
+            |v: Option<u64>| v.ok_or_else(|| format!("missing field `seed` for kind `{}`", r.kind));
         Ok(match r.kind.as_str() {
             "nominal" => CovChoiceFile::Nominal,
             "given" => CovChoiceFile::Given { blocks: r.blocks },
-            "vertex" => CovChoiceFile::Vertex { seed: need(r.seed)? },
-            "interior" => CovChoiceFile::Interior { seed: need(r.seed)? },
-            _ => CovChoiceFile::WorstFor { filter: r.filter.ok_or("missing field `filter` for kind `worst_for`")? },
+            "vertex" => CovChoiceFile::Vertex {
+                seed: need(r.seed)?,
+            },
+            "interior" => CovChoiceFile::Interior {
+                seed: need(r.seed)?,
+            },
+            _ => CovChoiceFile::WorstFor {
+                filter: r
+                    .filter
+                    .ok_or("missing field `filter` for kind `worst_for`")?,
+            },
         })
     }
 }
@@ -203,7 +227,11 @@ impl Experiment {
 /// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
 pub fn load(path: &Path) -> Result<Experiment> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
+    let name = path
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("experiment")
+        .to_string();
     parse(&name, &path.display().to_string(), &text)
 }
 
@@ -215,8 +243,13 @@ pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
 
 fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
     let line_of = |span: Option<std::ops::Range<usize>>| {
-        span.map(|s| format!(" (line {})", text[..s.start.min(text.len())].lines().count().max(1)))
-            .unwrap_or_default()
+        span.map(|s| {
+            format!(
+                " (line {})",
+                text[..s.start.min(text.len())].lines().count().max(1)
+            )
+        })
+        .unwrap_or_default()
     };
     let de = toml::Deserializer::parse(text).map_err(|e| Error::Parse {
         file: file.to_string(),
@@ -225,8 +258,15 @@ fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result
     serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.inner();
-        let key = if path == "." { String::new() } else { format!("key `{path}`: ") };
-        Error::Parse { file: file.to_string(), message: format!("{key}{}{}", inner.message().trim(), line_of(inner.span())) }
+        let key = if path == "." {
+            String::new()
+        } else {
+            format!("key `{path}`: ")
+        };
+        Error::Parse {
+            file: file.to_string(),
+            message: format!("{key}{}{}", inner.message().trim(), line_of(inner.span())),
+        }
     })
 }
 
@@ -235,7 +275,11 @@ pub fn family_params<T: serde::de::DeserializeOwned>(filter: &FilterSpec) -> Res
     let v = toml::Value::Table(filter.params.clone());
     serde_path_to_error::deserialize(v).map_err(|e| {
         let path = e.path().to_string();
-        let key = if path == "." { format!("filters.{}", filter.name) } else { format!("filters.{}.{path}", filter.name) };
+        let key = if path == "." {
+            format!("filters.{}", filter.name)
+        } else {
+            format!("filters.{}.{path}", filter.name)
+        };
         Error::invalid(key, e.inner().message().trim().to_string())
     })
 }
@@ -252,7 +296,10 @@ pub(crate) fn given_covariances(
     let mut out = nominal.clone();
     for (bname, rows) in blocks {
         let i = names.iter().position(|n| n == bname).ok_or_else(|| {
-            Error::invalid(format!("{key}.{bname}"), format!("unknown covariance block (known: {})", names.join(", ")))
+            Error::invalid(
+                format!("{key}.{bname}"),
+                format!("unknown covariance block (known: {})", names.join(", ")),
+            )
         })?;
         let d = nominal.blocks[i].nrows();
         let m = from_rows(&format!("{key}.{bname}"), rows, Some((d, d)))?;
@@ -265,24 +312,49 @@ pub(crate) fn given_covariances(
 fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let p = &f.plant;
     if p.horizon == 0 {
-        return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
+        return Err(Error::invalid(
+            "plant.horizon",
+            "the horizon N must be at least 1",
+        ));
     }
     if f.trials < 2 {
-        return Err(Error::invalid("trials", "at least 2 trials are needed for a confidence interval"));
+        return Err(Error::invalid(
+            "trials",
+            "at least 2 trials are needed for a confidence interval",
+        ));
     }
     let a = from_rows("plant.A", &p.A, None)?;
     let n = a.nrows();
     if n == 0 || !a.is_square() {
-        return Err(Error::invalid("plant.A", format!("must be square and non-empty, found {}×{}", a.nrows(), a.ncols())));
+        return Err(Error::invalid(
+            "plant.A",
+            format!(
+                "must be square and non-empty, found {}×{}",
+                a.nrows(),
+                a.ncols()
+            ),
+        ));
     }
     let b = from_rows("plant.B", &p.B, None)?;
     if b.nrows() != n {
-        return Err(Error::invalid("plant.B", format!("expected {n} rows (the state dimension), found {}", b.nrows())));
+        return Err(Error::invalid(
+            "plant.B",
+            format!(
+                "expected {n} rows (the state dimension), found {}",
+                b.nrows()
+            ),
+        ));
     }
     let nw = b.ncols();
     let c = from_rows("plant.C", &p.C, None)?;
     if c.ncols() != n {
-        return Err(Error::invalid("plant.C", format!("expected {n} columns (the state dimension), found {}", c.ncols())));
+        return Err(Error::invalid(
+            "plant.C",
+            format!(
+                "expected {n} columns (the state dimension), found {}",
+                c.ncols()
+            ),
+        ));
     }
     let ny = c.nrows();
     let d = from_rows("plant.D", &p.D, Some((ny, nw)))?;
@@ -291,7 +363,13 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         None => Mat::identity(n, n),
     };
     if cz.ncols() != n {
-        return Err(Error::invalid("plant.Cz", format!("expected {n} columns (the state dimension), found {}", cz.ncols())));
+        return Err(Error::invalid(
+            "plant.Cz",
+            format!(
+                "expected {n} columns (the state dimension), found {}",
+                cz.ncols()
+            ),
+        ));
     }
     let nz = cz.nrows();
     let dz = match &p.Dz {
@@ -300,13 +378,19 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     };
     let x0_mean = match &p.x0_mean {
         Some(v) if v.len() != n => {
-            return Err(Error::invalid("plant.x0_mean", format!("expected {n} entries, found {}", v.len())));
+            return Err(Error::invalid(
+                "plant.x0_mean",
+                format!("expected {n} entries, found {}", v.len()),
+            ));
         }
         Some(v) => Vector::from_column_slice(v),
         None => Vector::zeros(n),
     };
     if p.first_measurement > p.horizon {
-        return Err(Error::invalid("plant.first_measurement", "must not exceed the horizon"));
+        return Err(Error::invalid(
+            "plant.first_measurement",
+            "must not exceed the horizon",
+        ));
     }
     let known_input = match &p.known_input {
         None => Vec::new(),
@@ -314,7 +398,11 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             let m = from_rows("plant.known_input.values", values, Some((p.horizon, n)))?;
             (0..p.horizon).map(|k| m.row(k).transpose()).collect()
         }
-        Some(KnownInputFile::Sine { amplitude, frequency, phase }) => {
+        Some(KnownInputFile::Sine {
+            amplitude,
+            frequency,
+            phase,
+        }) => {
             if amplitude.len() != n {
                 return Err(Error::invalid(
                     "plant.known_input.amplitude",
@@ -322,7 +410,14 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
                 ));
             }
             (0..p.horizon)
-                .map(|k| Vector::from_iterator(n, amplitude.iter().map(|a| a * (frequency * k as f64 + phase).sin())))
+                .map(|k| {
+                    Vector::from_iterator(
+                        n,
+                        amplitude
+                            .iter()
+                            .map(|a| a * (frequency * k as f64 + phase).sin()),
+                    )
+                })
                 .collect()
         }
     };
@@ -331,7 +426,10 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut seen = std::collections::BTreeSet::new();
     for bn in &p.noise_blocks {
         if bn == "x0" || !seen.insert(bn.as_str()) {
-            return Err(Error::invalid("plant.noise_blocks", format!("block name `{bn}` is reserved or repeated")));
+            return Err(Error::invalid(
+                "plant.noise_blocks",
+                format!("block name `{bn}` is reserved or repeated"),
+            ));
         }
     }
     for key in f.nominal.keys() {
@@ -346,10 +444,20 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut dims = Vec::new();
     for bn in std::iter::once("x0").chain(p.noise_blocks.iter().map(String::as_str)) {
         let key = format!("nominal.{bn}");
-        let rows = f.nominal.get(bn).ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
+        let rows = f
+            .nominal
+            .get(bn)
+            .ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
         let m = from_rows(&key, rows, None)?;
         if bn == "x0" && m.shape() != (n, n) {
-            return Err(Error::invalid(key, format!("expected a {n}×{n} matrix, found {}×{}", m.nrows(), m.ncols())));
+            return Err(Error::invalid(
+                key,
+                format!(
+                    "expected a {n}×{n} matrix, found {}×{}",
+                    m.nrows(),
+                    m.ncols()
+                ),
+            ));
         }
         check_psd(&key, &m)?;
         if bn != "x0" {
@@ -364,7 +472,19 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             format!("the noise blocks have {total} components in all but plant.B has {nw} columns"),
         ));
     }
-    let plant = Plant::new(p.horizon, a, b, c, d, cz, dz, x0_mean, p.first_measurement, known_input, dims);
+    let plant = Plant::new(
+        p.horizon,
+        a,
+        b,
+        c,
+        d,
+        cz,
+        dz,
+        x0_mean,
+        p.first_measurement,
+        known_input,
+        dims,
+    );
     let nominal = Covariances { blocks };
 
     let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
@@ -372,7 +492,10 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     for (bn, s) in &f.sets {
         let key = format!("sets.{bn}");
         let i = names.iter().position(|n| n == bn).ok_or_else(|| {
-            Error::invalid(&key, format!("unknown covariance block (known: {})", names.join(", ")))
+            Error::invalid(
+                &key,
+                format!("unknown covariance block (known: {})", names.join(", ")),
+            )
         })?;
         let center = nominal.blocks[i].clone();
         let d = center.nrows();
@@ -380,7 +503,9 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             SetFile::Box { half_width } => {
                 let hw = match half_width {
                     HalfWidth::Scalar(v) => Mat::from_element(d, d, *v),
-                    HalfWidth::Matrix(r) => from_rows(&format!("{key}.half_width"), r, Some((d, d)))?,
+                    HalfWidth::Matrix(r) => {
+                        from_rows(&format!("{key}.half_width"), r, Some((d, d)))?
+                    }
                 };
                 CovSet::new_box(&key, center, hw)?
             }
@@ -394,35 +519,63 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut fnames = std::collections::BTreeSet::new();
     for (i, fl) in f.filters.iter().enumerate() {
         if !fnames.insert(fl.name.as_str()) {
-            return Err(Error::invalid(format!("filters[{i}].name"), format!("filter name `{}` is repeated", fl.name)));
+            return Err(Error::invalid(
+                format!("filters[{i}].name"),
+                format!("filter name `{}` is repeated", fl.name),
+            ));
         }
         if !crate::families::registry::is_family(&fl.family) {
             return Err(Error::invalid(
                 format!("filters.{}.family", fl.name),
-                format!("unknown family `{}` (known: {})", fl.family, crate::families::registry::FAMILIES.join(", ")),
+                format!(
+                    "unknown family `{}` (known: {})",
+                    fl.family,
+                    crate::families::registry::FAMILIES.join(", ")
+                ),
             ));
         }
     }
-    let filters: Vec<FilterSpec> =
-        f.filters.into_iter().map(|fl| FilterSpec { name: fl.name, family: fl.family, params: fl.params }).collect();
+    let filters: Vec<FilterSpec> = f
+        .filters
+        .into_iter()
+        .map(|fl| FilterSpec {
+            name: fl.name,
+            family: fl.family,
+            params: fl.params,
+        })
+        .collect();
 
     if f.scenarios.is_empty() {
-        return Err(Error::invalid("scenarios", "the experiment names no scenario"));
+        return Err(Error::invalid(
+            "scenarios",
+            "the experiment names no scenario",
+        ));
     }
     let has_sets = sets.iter().any(Option::is_some);
     let mut scenarios = Vec::new();
     let mut snames = std::collections::BTreeSet::new();
     for (i, s) in f.scenarios.into_iter().enumerate() {
         if !snames.insert(s.name.clone()) {
-            return Err(Error::invalid(format!("scenarios[{i}].name"), format!("scenario name `{}` is repeated", s.name)));
+            return Err(Error::invalid(
+                format!("scenarios[{i}].name"),
+                format!("scenario name `{}` is repeated", s.name),
+            ));
         }
         let key = format!("scenarios.{}.covariance", s.name);
-        let covariance = CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
+        let covariance =
+            CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
         s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
-        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape });
+        scenarios.push(Scenario {
+            name: s.name,
+            covariance,
+            shape: s.shape,
+        });
     }
     if f.sample_trajectories > f.trials {
-        return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));
+        return Err(Error::invalid(
+            "sample_trajectories",
+            "cannot exceed the number of trials",
+        ));
     }
 
     Ok(Experiment {

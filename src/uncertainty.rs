@@ -19,16 +19,25 @@ pub enum CovSet {
 impl CovSet {
     pub fn new_box(key: &str, center: Mat, half_width: Mat) -> Result<Self> {
         if half_width.iter().any(|v| *v < 0.0 || !v.is_finite()) {
-            return Err(Error::invalid(format!("{key}.half_width"), "half-widths must be finite and ≥ 0"));
+            return Err(Error::invalid(
+                format!("{key}.half_width"),
+                "half-widths must be finite and ≥ 0",
+            ));
         }
         if (&half_width - half_width.transpose()).amax() > 0.0 {
-            return Err(Error::invalid(format!("{key}.half_width"), "the half-width matrix must be symmetric"));
+            return Err(Error::invalid(
+                format!("{key}.half_width"),
+                "the half-width matrix must be symmetric",
+            ));
         }
         Ok(CovSet::Box { center, half_width })
     }
     pub fn new_ball(key: &str, center: Mat, radius: f64) -> Result<Self> {
         if radius < 0.0 || !radius.is_finite() {
-            return Err(Error::invalid(format!("{key}.radius"), "the radius must be finite and ≥ 0"));
+            return Err(Error::invalid(
+                format!("{key}.radius"),
+                "the radius must be finite and ≥ 0",
+            ));
         }
         Ok(CovSet::Ball { center, radius })
     }
@@ -50,7 +59,9 @@ impl CovSet {
     pub fn argmax_linear(&self, g: &Mat) -> (f64, Mat) {
         match self {
             CovSet::Box { center, half_width } => {
-                let step = Mat::from_fn(g.nrows(), g.ncols(), |i, j| half_width[(i, j)] * g[(i, j)].signum_or_zero());
+                let step = Mat::from_fn(g.nrows(), g.ncols(), |i, j| {
+                    half_width[(i, j)] * g[(i, j)].signum_or_zero()
+                });
                 (frob_dot(g, &step), center + step)
             }
             CovSet::Ball { center, radius } => {
@@ -100,7 +111,11 @@ impl CovSet {
                         let g: f64 = StandardNormal.sample(rng);
                         // Off-diagonal coordinates count twice in ‖·‖_F: scale by 1/√2 so the
                         // direction is uniform on the sphere of symmetric matrices.
-                        let v = if i == j { g } else { g / std::f64::consts::SQRT_2 };
+                        let v = if i == j {
+                            g
+                        } else {
+                            g / std::f64::consts::SQRT_2
+                        };
                         delta[(i, j)] = v;
                         delta[(j, i)] = v;
                     }

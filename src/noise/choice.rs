@@ -5,9 +5,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::error::{Error, Result};
-use crate::spec::FilterSpec;
 use crate::linalg::check_psd;
 use crate::plant::{Covariances, Plant};
+use crate::spec::FilterSpec;
 use crate::spec::{CovChoiceFile, Experiment, given_covariances};
 
 #[derive(Clone, Debug)]
@@ -16,11 +16,17 @@ pub enum CovChoice {
     Given(Covariances),
     /// A random extreme point of every block's set (blocks without a set stay nominal); the
     /// seed makes the choice reproducible.
-    Vertex { seed: u64 },
+    Vertex {
+        seed: u64,
+    },
     /// A uniformly random point of every block's set.
-    Interior { seed: u64 },
+    Interior {
+        seed: u64,
+    },
     /// The maximizer of the named filter's (affine) error over the set.
-    WorstFor { filter: usize },
+    WorstFor {
+        filter: usize,
+    },
 }
 
 impl CovChoice {
@@ -34,20 +40,34 @@ impl CovChoice {
     ) -> Result<Self> {
         Ok(match f {
             CovChoiceFile::Nominal => CovChoice::Nominal,
-            CovChoiceFile::Given { blocks } => CovChoice::Given(given_covariances(key, plant, nominal, blocks)?),
+            CovChoiceFile::Given { blocks } => {
+                CovChoice::Given(given_covariances(key, plant, nominal, blocks)?)
+            }
             CovChoiceFile::Vertex { seed } | CovChoiceFile::Interior { seed } if !has_sets => {
                 let _ = seed;
-                return Err(Error::invalid(key, "a vertex or interior point needs an uncertainty set: add [sets.BLOCK]"));
+                return Err(Error::invalid(
+                    key,
+                    "a vertex or interior point needs an uncertainty set: add [sets.BLOCK]",
+                ));
             }
             CovChoiceFile::Vertex { seed } => CovChoice::Vertex { seed: *seed },
             CovChoiceFile::Interior { seed } => CovChoice::Interior { seed: *seed },
             CovChoiceFile::WorstFor { filter } => {
                 if !has_sets {
-                    return Err(Error::invalid(key, "a worst case needs an uncertainty set: add [sets.BLOCK]"));
+                    return Err(Error::invalid(
+                        key,
+                        "a worst case needs an uncertainty set: add [sets.BLOCK]",
+                    ));
                 }
-                let i = filters.iter().position(|x| &x.name == filter).ok_or_else(|| {
-                    Error::invalid(format!("{key}.filter"), format!("no filter named `{filter}` in this experiment"))
-                })?;
+                let i = filters
+                    .iter()
+                    .position(|x| &x.name == filter)
+                    .ok_or_else(|| {
+                        Error::invalid(
+                            format!("{key}.filter"),
+                            format!("no filter named `{filter}` in this experiment"),
+                        )
+                    })?;
                 CovChoice::WorstFor { filter: i }
             }
         })

@@ -19,11 +19,15 @@ pub struct Overrides {
 
 /// Versions of the libraries as pinned in this crate's Cargo.toml.
 pub fn library_versions() -> serde_json::Map<String, serde_json::Value> {
-    let manifest: toml::Table = toml::from_str(include_str!("../../Cargo.toml")).unwrap_or_default();
+    let manifest: toml::Table =
+        toml::from_str(include_str!("../../Cargo.toml")).unwrap_or_default();
     let mut out = serde_json::Map::new();
     if let Some(deps) = manifest.get("dependencies").and_then(|d| d.as_table()) {
         for (name, v) in deps {
-            let ver = v.as_str().or_else(|| v.get("version").and_then(|x| x.as_str())).unwrap_or("?");
+            let ver = v
+                .as_str()
+                .or_else(|| v.get("version").and_then(|x| x.as_str()))
+                .unwrap_or("?");
             out.insert(name.clone(), serde_json::Value::String(ver.to_string()));
         }
     }
@@ -31,7 +35,9 @@ pub fn library_versions() -> serde_json::Map<String, serde_json::Value> {
 }
 
 fn matrix(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect()
+    (0..m.nrows())
+        .map(|i| m.row(i).iter().copied().collect())
+        .collect()
 }
 
 pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &Path) -> Result<()> {

@@ -25,18 +25,28 @@ pub struct Staging {
 impl Staging {
     /// Creates the temporary folder now, so an unwritable destination fails before any work.
     pub fn new(target: &Path) -> Result<Self> {
-        let name = target.file_name().and_then(|s| s.to_str()).unwrap_or("results").to_string();
+        let name = target
+            .file_name()
+            .and_then(|s| s.to_str())
+            .unwrap_or("results")
+            .to_string();
         let parent = match target.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, format!("cannot create the output folder: {e}")))?;
+        std::fs::create_dir_all(&parent)
+            .map_err(|e| Error::io(&parent, format!("cannot create the output folder: {e}")))?;
         let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
         if tmp.exists() {
             std::fs::remove_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
         }
-        std::fs::create_dir(&tmp).map_err(|e| Error::io(&parent, format!("output folder is not writable: {e}")))?;
-        Ok(Staging { tmp, target: target.to_path_buf(), committed: false })
+        std::fs::create_dir(&tmp)
+            .map_err(|e| Error::io(&parent, format!("output folder is not writable: {e}")))?;
+        Ok(Staging {
+            tmp,
+            target: target.to_path_buf(),
+            committed: false,
+        })
     }
     pub fn path(&self) -> &Path {
         &self.tmp
@@ -45,7 +55,10 @@ impl Staging {
     pub fn commit(mut self) -> Result<PathBuf> {
         let old = self.tmp.with_file_name(format!(
             ".{}.old-{}",
-            self.target.file_name().and_then(|s| s.to_str()).unwrap_or("results"),
+            self.target
+                .file_name()
+                .and_then(|s| s.to_str())
+                .unwrap_or("results"),
             std::process::id()
         ));
         let had_old = self.target.exists();
@@ -75,7 +88,12 @@ impl Drop for Staging {
 }
 
 /// Writes every file of the output contract into `dir`.
-pub fn write_all(exp: &Experiment, out: &RunOutcome, dir: &Path, overrides: &manifest::Overrides) -> Result<()> {
+pub fn write_all(
+    exp: &Experiment,
+    out: &RunOutcome,
+    dir: &Path,
+    overrides: &manifest::Overrides,
+) -> Result<()> {
     parquet::write_summary(exp, out, &dir.join("summary.parquet"))?;
     parquet::write_steps(exp, out, &dir.join("steps.parquet"))?;
     parquet::write_gains(exp, out, &dir.join("gains.parquet"))?;

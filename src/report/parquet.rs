@@ -12,7 +12,9 @@ use crate::spec::Experiment;
 fn write(df: &mut DataFrame, path: &Path) -> Result<()> {
     let what = path.display().to_string();
     let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    ParquetWriter::new(file).finish(df).map_err(|e| Error::output(&what, e))?;
+    ParquetWriter::new(file)
+        .finish(df)
+        .map_err(|e| Error::output(&what, e))?;
     Ok(())
 }
 
@@ -48,8 +50,10 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.ci_low.push(lo);
             c.ci_high.push(hi);
             c.exact.push(Some(sc.exact[f].total));
-            c.guaranteed.push(d.design.guarantee.as_ref().map(|g| g.total));
-            c.guarantee_kind.push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
+            c.guaranteed
+                .push(d.design.guarantee.as_ref().map(|g| g.total));
+            c.guarantee_kind
+                .push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             c.violations.push(None);
@@ -109,8 +113,16 @@ struct SummaryCols {
 
 /// One row per (scenario, filter, step).
 pub fn write_steps(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
-    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) =
-        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) = (
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+    );
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
             let g = out.filters[f].design.guarantee.as_ref();
@@ -164,7 +176,12 @@ pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
     };
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
         let r = &d.design.realization;
-        push(&spec.name, 0, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
+        push(
+            &spec.name,
+            0,
+            "s0",
+            &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()),
+        );
         for (k, g) in r.steps.iter().enumerate() {
             push(&spec.name, k, "Af", &g.af);
             push(&spec.name, k, "Bf", &g.bf);
@@ -190,8 +207,17 @@ pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
 
 /// Paired differences of the summed error between every two filters on the same draws.
 pub fn write_paired(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
-    let (mut sc_, mut a, mut b, mut n, mut mean, mut se, mut lo, mut hi, mut ex) =
-        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let (mut sc_, mut a, mut b, mut n, mut mean, mut se, mut lo, mut hi, mut ex) = (
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+        vec![],
+    );
     let pairs = McStats::pairs(exp.filters.len());
     for sc in &out.scenarios {
         for (w, &(i, j)) in sc.mc.paired.iter().zip(&pairs) {

@@ -14,7 +14,15 @@ use crate::spec::Experiment;
 
 /// Entity-path-safe form of a user-given name.
 fn part(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' { c } else { '_' }).collect()
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }
 
 pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
@@ -31,12 +39,23 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
             for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
                 rec.set_time_sequence("step", k as i64);
                 let (lo, hi) = w.ci95();
-                rec.log(format!("{base}/empirical"), &rerun::Scalars::single(w.mean)).map_err(|e| err(&e))?;
-                rec.log(format!("{base}/ci_low"), &rerun::Scalars::single(lo)).map_err(|e| err(&e))?;
-                rec.log(format!("{base}/ci_high"), &rerun::Scalars::single(hi)).map_err(|e| err(&e))?;
-                rec.log(format!("{base}/exact"), &rerun::Scalars::single(sc.exact[f].per_step[k])).map_err(|e| err(&e))?;
+                rec.log(format!("{base}/empirical"), &rerun::Scalars::single(w.mean))
+                    .map_err(|e| err(&e))?;
+                rec.log(format!("{base}/ci_low"), &rerun::Scalars::single(lo))
+                    .map_err(|e| err(&e))?;
+                rec.log(format!("{base}/ci_high"), &rerun::Scalars::single(hi))
+                    .map_err(|e| err(&e))?;
+                rec.log(
+                    format!("{base}/exact"),
+                    &rerun::Scalars::single(sc.exact[f].per_step[k]),
+                )
+                .map_err(|e| err(&e))?;
                 if let Some(g) = g {
-                    rec.log(format!("{base}/bound"), &rerun::Scalars::single(g.per_step[k])).map_err(|e| err(&e))?;
+                    rec.log(
+                        format!("{base}/bound"),
+                        &rerun::Scalars::single(g.per_step[k]),
+                    )
+                    .map_err(|e| err(&e))?;
                 }
             }
         }
@@ -45,10 +64,17 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
                 let base = format!("trajectories/{s}/trial_{}/z{}", tr.trial, j + 1);
                 for k in 0..tr.z.ncols() {
                     rec.set_time_sequence("step", k as i64);
-                    rec.log(format!("{base}/truth"), &rerun::Scalars::single(tr.z[(j, k)])).map_err(|e| err(&e))?;
+                    rec.log(
+                        format!("{base}/truth"),
+                        &rerun::Scalars::single(tr.z[(j, k)]),
+                    )
+                    .map_err(|e| err(&e))?;
                     for (f, spec) in exp.filters.iter().enumerate() {
-                        rec.log(format!("{base}/{}", part(&spec.name)), &rerun::Scalars::single(tr.zhat[f][(j, k)]))
-                            .map_err(|e| err(&e))?;
+                        rec.log(
+                            format!("{base}/{}", part(&spec.name)),
+                            &rerun::Scalars::single(tr.zhat[f][(j, k)]),
+                        )
+                        .map_err(|e| err(&e))?;
                     }
                 }
             }
@@ -63,7 +89,8 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
                 "{} / {}: empirical {:.6} [{:.6}, {:.6}], exact {:.6}",
                 sc.name, spec.name, st.mean, lo, hi, sc.exact[f].total
             );
-            rec.log_static("summary", &rerun::TextLog::new(line)).map_err(|e| err(&e))?;
+            rec.log_static("summary", &rerun::TextLog::new(line))
+                .map_err(|e| err(&e))?;
         }
     }
     rec.flush_blocking().map_err(|e| err(&e))?;

@@ -4,7 +4,10 @@ use filterbench::spec::{self, Experiment};
 
 /// The shipped `kalman_baseline` experiment with `trials` trials.
 pub fn baseline(trials: usize) -> Experiment {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/experiments/kalman_baseline.toml"
+    );
     let mut e = spec::load(std::path::Path::new(path)).expect("kalman_baseline parses");
     e.trials = trials;
     e
@@ -70,7 +73,12 @@ shape = { kind = "mixture", weight = 0.1, ratio = 4.0 }
 "#;
 
 pub fn shapes(pattern: &str) -> Experiment {
-    spec::parse("shapes", "shapes.toml", &SHAPES_TOML.replace("PATTERN", pattern)).expect("test plant parses")
+    spec::parse(
+        "shapes",
+        "shapes.toml",
+        &SHAPES_TOML.replace("PATTERN", pattern),
+    )
+    .expect("test plant parses")
 }
 
 /// A fresh folder under the system temp dir, removed on drop. (No dev-dependency for this: a
@@ -82,7 +90,11 @@ impl TempDir {
     pub fn new() -> Self {
         use std::sync::atomic::{AtomicUsize, Ordering};
         static N: AtomicUsize = AtomicUsize::new(0);
-        let p = std::env::temp_dir().join(format!("filterbench-test-{}-{}", std::process::id(), N.fetch_add(1, Ordering::Relaxed)));
+        let p = std::env::temp_dir().join(format!(
+            "filterbench-test-{}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
         let _ = std::fs::remove_dir_all(&p);
         std::fs::create_dir_all(&p).unwrap();
         TempDir(p)

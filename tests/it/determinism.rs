@@ -5,22 +5,34 @@ use filterbench::run;
 use crate::common;
 
 fn run_with(threads: usize, exp: &filterbench::spec::Experiment) -> run::RunOutcome {
-    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| run::run(exp, false).unwrap())
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| run::run(exp, false).unwrap())
 }
 
 #[test]
 fn one_and_two_threads_give_identical_bits() {
-    // 1000 trials is not a multiple of the block size, so the last block is partial.
-    let exp = common::baseline(1000);
+    // 16,700 trials: more than one wave of 256 blocks of 64 trials, and a partial last block.
+    let exp = common::baseline(16_700);
     let a = run_with(1, &exp);
     let b = run_with(2, &exp);
     assert_eq!(a.threads, 1);
     assert_eq!(b.threads, 2);
     for (x, y) in a.scenarios.iter().zip(&b.scenarios) {
-        assert!(x.mc == y.mc, "scenario {}: statistics differ between 1 and 2 threads", x.name);
+        assert!(
+            x.mc == y.mc,
+            "scenario {}: statistics differ between 1 and 2 threads",
+            x.name
+        );
         for (f, (p, q)) in x.mc.filters.iter().zip(&y.mc.filters).enumerate() {
             assert_eq!(p.total.mean.to_bits(), q.total.mean.to_bits(), "filter {f}");
-            assert_eq!(p.total.variance().to_bits(), q.total.variance().to_bits(), "filter {f}");
+            assert_eq!(
+                p.total.variance().to_bits(),
+                q.total.variance().to_bits(),
+                "filter {f}"
+            );
         }
         for (t, u) in x.trajectories.iter().zip(&y.trajectories) {
             assert_eq!(t.z, u.z);

@@ -32,13 +32,28 @@ fn check(exp: &filterbench::spec::Experiment) {
                 let se = w.std_error();
                 let d = w.mean - sc.exact[f].per_step[k];
                 // Step 0 of a plant with a deterministic initial error has se = 0 and d = 0.
-                let zk = if se > 0.0 { d / se } else { assert!(d.abs() < 1e-12); 0.0 };
-                assert!(zk.abs() <= 4.5, "{}/{} step {k}: {} vs exact {} is {zk:.2}σ away", sc.name, spec.name, w.mean, sc.exact[f].per_step[k]);
+                let zk = if se > 0.0 {
+                    d / se
+                } else {
+                    assert!(d.abs() < 1e-12);
+                    0.0
+                };
+                assert!(
+                    zk.abs() <= 4.5,
+                    "{}/{} step {k}: {} vs exact {} is {zk:.2}σ away",
+                    sc.name,
+                    spec.name,
+                    w.mean,
+                    sc.exact[f].per_step[k]
+                );
                 worst_step = worst_step.max(zk.abs());
             }
         }
     }
-    eprintln!("{}: largest |z| total {worst_total:.2}σ, per step {worst_step:.2}σ", exp.name);
+    eprintln!(
+        "{}: largest |z| total {worst_total:.2}σ, per step {worst_step:.2}σ",
+        exp.name
+    );
 }
 
 #[test]

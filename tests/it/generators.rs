@@ -22,7 +22,13 @@ struct Moments {
 
 impl Moments {
     fn new(m: usize) -> Self {
-        Moments { m, n: 0.0, sum: vec![0.0; m], prod: vec![0.0; m * m], prod2: vec![0.0; m * m] }
+        Moments {
+            m,
+            n: 0.0,
+            sum: vec![0.0; m],
+            prod: vec![0.0; m * m],
+            prod2: vec![0.0; m * m],
+        }
     }
     fn push(&mut self, v: impl Fn(usize) -> f64) {
         self.n += 1.0;
@@ -40,14 +46,27 @@ impl Moments {
         let (m, n) = (self.m, self.n);
         for i in 0..m {
             let se = (target[(i, i)] / n).sqrt();
-            assert!((self.sum[i] / n).abs() <= 4.5 * se, "{what}: mean of entry {i} = {}", self.sum[i] / n);
+            assert!(
+                (self.sum[i] / n).abs() <= 4.5 * se,
+                "{what}: mean of entry {i} = {}",
+                self.sum[i] / n
+            );
             for j in 0..m {
                 let mean = self.prod[i * m + j] / n;
                 let se = ((self.prod2[i * m + j] / n - mean * mean).max(0.0) / n).sqrt();
                 let d = mean - target[(i, j)];
                 // A product that never varies (Rademacher squares are exactly 1) must be exact.
-                let ok = if se > 1e-12 { (d / se).abs() <= 4.5 } else { d.abs() <= 1e-9 };
-                assert!(ok, "{what}: covariance ({i},{j}) = {mean} vs {} ({:.2}σ)", target[(i, j)], d / se);
+                let ok = if se > 1e-12 {
+                    (d / se).abs() <= 4.5
+                } else {
+                    d.abs() <= 1e-9
+                };
+                assert!(
+                    ok,
+                    "{what}: covariance ({i},{j}) = {mean} vs {} ({:.2}σ)",
+                    target[(i, j)],
+                    d / se
+                );
             }
         }
     }
@@ -80,7 +99,10 @@ fn every_shape_has_the_target_covariance() {
         Shape::Laplace,
         Shape::StudentT { nu: 5.0 },
         Shape::Rademacher,
-        Shape::Mixture { weight: 0.1, ratio: 4.0 },
+        Shape::Mixture {
+            weight: 0.1,
+            ratio: 4.0,
+        },
     ] {
         check_shape(&shape);
     }
@@ -101,14 +123,26 @@ fn vertices_and_interior_points_lie_where_they_should() {
         assert_eq!(i, i.transpose());
         for r in 0..2 {
             for c in 0..2 {
-                assert!(((v[(r, c)] - center[(r, c)]).abs() - hw[(r, c)]).abs() < 1e-15, "vertex entry on the bound");
-                assert!((i[(r, c)] - center[(r, c)]).abs() <= hw[(r, c)], "interior entry inside");
+                assert!(
+                    ((v[(r, c)] - center[(r, c)]).abs() - hw[(r, c)]).abs() < 1e-15,
+                    "vertex entry on the bound"
+                );
+                assert!(
+                    (i[(r, c)] - center[(r, c)]).abs() <= hw[(r, c)],
+                    "interior entry inside"
+                );
             }
         }
         let bv = ball.random_vertex(&mut rng);
         let bi = ball.random_interior(&mut rng);
-        assert!(((&bv - &center).norm() - 0.3).abs() < 1e-12, "ball extreme point on the sphere");
-        assert!((&bi - &center).norm() <= 0.3 + 1e-12, "ball interior point inside");
+        assert!(
+            ((&bv - &center).norm() - 0.3).abs() < 1e-12,
+            "ball extreme point on the sphere"
+        );
+        assert!(
+            (&bi - &center).norm() <= 0.3 + 1e-12,
+            "ball interior point inside"
+        );
         assert_eq!(bv, bv.transpose());
     }
 }
@@ -123,16 +157,28 @@ fn worst_case_for_a_filter_beats_every_sampled_point_of_the_set() {
         let real = &f.design.realization;
         let worst = f.worst.as_ref().expect("baseline has sets");
         let at_argmax = exact::error(&exp.plant, real, &worst.argmax).total;
-        assert!((at_argmax - worst.total).abs() <= 1e-9 * worst.total, "closed form {} vs recomputed {at_argmax}", worst.total);
+        assert!(
+            (at_argmax - worst.total).abs() <= 1e-9 * worst.total,
+            "closed form {} vs recomputed {at_argmax}",
+            worst.total
+        );
         for _ in 0..200 {
             let mut cov: Covariances = exp.nominal.clone();
             for (i, s) in exp.sets.iter().enumerate() {
                 if let Some(s) = s {
-                    cov.blocks[i] = if rng.next_u32() & 1 == 0 { s.random_vertex(&mut rng) } else { s.random_interior(&mut rng) };
+                    cov.blocks[i] = if rng.next_u32() & 1 == 0 {
+                        s.random_vertex(&mut rng)
+                    } else {
+                        s.random_interior(&mut rng)
+                    };
                 }
             }
             let j = exact::error(&exp.plant, real, &cov).total;
-            assert!(j <= worst.total * (1.0 + 1e-12), "a sampled point {j} exceeds the worst case {}", worst.total);
+            assert!(
+                j <= worst.total * (1.0 + 1e-12),
+                "a sampled point {j} exceeds the worst case {}",
+                worst.total
+            );
         }
     }
 }
