@@ -13,11 +13,16 @@ pub mod plant;
 pub mod realization;
 pub mod report;
 pub mod run;
+pub mod solve;
 pub mod spec;
 pub mod stats;
 pub mod uncertainty;
 
 pub use error::{Error, Result};
+
+// clarabel's SDP support calls BLAS/LAPACK: link the system OpenBLAS (`system` feature; .ci/run
+// installs Debian's libopenblas-dev and gfortran) rather than building one from source.
+extern crate openblas_src as _;
 
 use std::path::{Path, PathBuf};
 

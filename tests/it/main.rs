@@ -9,3 +9,4 @@ mod end_to_end;
 mod exact_vs_mc;
 mod generators;
 mod kalman;
+mod sdp;
