@@ -15,9 +15,7 @@ pub enum Error {
     #[error("filter `{filter}`: {cause}")]
     Design { filter: String, cause: String },
     /// No experiment of that name in the experiments folder.
-    #[error(
-        "no experiment `{name}`: neither {path} nor a file of that path exists (see `filterbench list`)"
-    )]
+    #[error("no experiment `{name}`: neither {path} nor a file of that path exists (see `filterbench list`)")]
     UnknownExperiment { name: String, path: PathBuf },
     /// Reading or writing a file failed.
     #[error("{path}: {cause}")]
@@ -29,28 +27,16 @@ pub enum Error {
 
 impl Error {
     pub fn invalid(key: impl Into<String>, cause: impl Into<String>) -> Self {
-        Error::Invalid {
-            key: key.into(),
-            cause: cause.into(),
-        }
+        Error::Invalid { key: key.into(), cause: cause.into() }
     }
     pub fn design(filter: impl Into<String>, cause: impl Into<String>) -> Self {
-        Error::Design {
-            filter: filter.into(),
-            cause: cause.into(),
-        }
+        Error::Design { filter: filter.into(), cause: cause.into() }
     }
     pub fn io(path: impl Into<PathBuf>, cause: impl std::fmt::Display) -> Self {
-        Error::Io {
-            path: path.into(),
-            cause: cause.to_string(),
-        }
+        Error::Io { path: path.into(), cause: cause.to_string() }
     }
     pub fn output(what: impl Into<String>, cause: impl std::fmt::Display) -> Self {
-        Error::Output {
-            what: what.into(),
-            cause: cause.to_string(),
-        }
+        Error::Output { what: what.into(), cause: cause.to_string() }
     }
 }
 

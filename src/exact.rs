@@ -31,17 +31,16 @@ fn augmented(plant: &Plant, real: &Realization, k: usize) -> Augmented {
     f.view_mut((n, n), (ns, ns)).copy_from(&gk.af);
     let mut e = Mat::zeros(n + ns, plant.nw());
     e.view_mut((0, 0), (n, plant.nw())).copy_from(&plant.b);
-    e.view_mut((n, 0), (ns, plant.nw()))
-        .copy_from(&(&gk.bf * d));
+    e.view_mut((n, 0), (ns, plant.nw())).copy_from(&(&gk.bf * d));
     let mut h = Mat::zeros(plant.nz(), n + ns);
-    h.view_mut((0, 0), (plant.nz(), n))
-        .copy_from(&(&plant.cz - &gk.df * c));
+    h.view_mut((0, 0), (plant.nz(), n)).copy_from(&(&plant.cz - &gk.df * c));
     h.view_mut((0, n), (plant.nz(), ns)).copy_from(&(-&gk.cf));
     let g = &plant.dz - &gk.df * d;
     Augmented { f, e, h, g }
 }
 
-/// Exact expected squared error E|z[k] − ẑ[k]|² per step and its sum over the horizon.
+/// Exact expected squared error E|z[k] − ẑ[k]|² per step and its sum J over the steps that count
+/// (k ≥ `plant.sum_from`).
 #[derive(Clone, Debug)]
 pub struct ExactError {
     pub per_step: Vec<f64>,
@@ -66,9 +65,7 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
             + (&aug.g * &w * aug.g.transpose()).trace();
         per_step.push(mse);
         if k < plant.horizon {
-            sigma = symmetrize(
-                &(&aug.f * &sigma * aug.f.transpose() + &aug.e * &w * aug.e.transpose()),
-            );
+            sigma = symmetrize(&(&aug.f * &sigma * aug.f.transpose() + &aug.e * &w * aug.e.transpose()));
             let mut next = &aug.f * &mean;
             if let Some(r) = plant.r_at(k) {
                 next.rows_mut(0, n).axpy(1.0, r, 1.0);
@@ -78,7 +75,7 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
             mean = next;
         }
     }
-    let total = per_step.iter().sum();
+    let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
     ExactError { per_step, total }
 }
 
@@ -91,8 +88,11 @@ pub fn gradient(plant: &Plant, real: &Realization) -> Vec<Mat> {
     let mut gw = Mat::zeros(nw, nw);
     for k in (0..plant.steps()).rev() {
         let aug = augmented(plant, real, k);
-        gw += aug.g.transpose() * &aug.g;
-        let mut l = aug.h.transpose() * &aug.h;
+        let mut l = Mat::zeros(aug.f.nrows(), aug.f.ncols());
+        if plant.counts(k) {
+            gw += aug.g.transpose() * &aug.g;
+            l += aug.h.transpose() * &aug.h;
+        }
         if let Some(next) = &lambda {
             gw += aug.e.transpose() * next * &aug.e;
             l += aug.f.transpose() * next * &aug.f;
@@ -119,28 +119,30 @@ pub struct WorstCase {
     pub psd: bool,
 }
 
-/// max over the sets of J(K): J(center) + Σ_i max_{K_i ∈ set_i} ⟨∂J/∂K_i, K_i − center_i⟩.
+/// max over the sets of J(K) = J(center) + Σ_i max_{K_i ∈ set_i} ⟨∂J/∂K_i, K_i − center_i⟩ (J is
+/// affine in K, so this is exact; seed 000 eq (26)).
 pub fn worst_case(
     plant: &Plant,
     real: &Realization,
     center: &Covariances,
     sets: &[Option<CovSet>],
-) -> Option<WorstCase> {
+) -> crate::error::Result<Option<WorstCase>> {
     if sets.iter().all(Option::is_none) {
-        return None;
+        return Ok(None);
     }
     let grad = gradient(plant, real);
     let mut total = error(plant, real, center).total;
     let mut argmax = center.clone();
     for (i, set) in sets.iter().enumerate() {
         if let Some(set) = set {
-            let (gain, s) = set.argmax_linear(&grad[i]);
+            let (gain, s) = set.linear_gain(&grad[i], &center.blocks[i])?;
             total += gain;
             argmax.blocks[i] = s;
         }
     }
-    let psd = argmax.blocks.iter().all(|m| {
-        crate::linalg::min_eigenvalue(m) >= -crate::linalg::PSD_TOL * m.amax().max(1e-300)
-    });
-    Some(WorstCase { total, argmax, psd })
+    let psd = argmax
+        .blocks
+        .iter()
+        .all(|m| crate::linalg::min_eigenvalue(m) >= -crate::linalg::PSD_TOL * m.amax().max(1e-300));
+    Ok(Some(WorstCase { total, argmax, psd }))
 }

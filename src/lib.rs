@@ -30,11 +30,7 @@ use std::path::{Path, PathBuf};
 /// source tree this binary was built from.
 pub fn experiments_dir() -> PathBuf {
     let local = PathBuf::from("experiments");
-    if local.is_dir() {
-        local
-    } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments")
-    }
+    if local.is_dir() { local } else { Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments") }
 }
 
 /// Resolves `experiment NAME` (experiments/NAME.toml) or `experiment path/to/file.toml`.
@@ -47,10 +43,7 @@ pub fn experiment_path(name_or_path: &str) -> Result<PathBuf> {
     if named.is_file() {
         return Ok(named);
     }
-    Err(Error::UnknownExperiment {
-        name: name_or_path.to_string(),
-        path: named,
-    })
+    Err(Error::UnknownExperiment { name: name_or_path.to_string(), path: named })
 }
 
 /// Every shipped experiment with its one-line description, sorted by name.
@@ -63,10 +56,7 @@ pub fn list_experiments() -> Vec<(String, String)> {
             let p = e.path();
             (p.extension()? == "toml").then(|| {
                 let name = p.file_stem()?.to_str()?.to_string();
-                Some((
-                    name,
-                    spec::describe(&p).unwrap_or_else(|| "(unreadable experiment file)".into()),
-                ))
+                Some((name, spec::describe(&p).unwrap_or_else(|| "(unreadable experiment file)".into())))
             })?
         })
         .collect();

@@ -17,20 +17,10 @@ pub fn from_rows(key: &str, rows: &[Vec<f64>], shape: Option<(usize, usize)>) ->
     let nr = rows.len();
     let nc = rows.first().map_or(0, Vec::len);
     if let Some(r) = rows.iter().position(|r| r.len() != nc) {
-        return Err(Error::invalid(
-            key,
-            format!(
-                "row {} has {} entries, row 1 has {nc}",
-                r + 1,
-                rows[r].len()
-            ),
-        ));
+        return Err(Error::invalid(key, format!("row {} has {} entries, row 1 has {nc}", r + 1, rows[r].len())));
     }
     if let Some((er, ec)) = shape.filter(|&s| s != (nr, nc)) {
-        return Err(Error::invalid(
-            key,
-            format!("expected a {er}×{ec} matrix, found {nr}×{nc}"),
-        ));
+        return Err(Error::invalid(key, format!("expected a {er}×{ec} matrix, found {nr}×{nc}")));
     }
     if let Some(v) = rows.iter().flatten().find(|v| !v.is_finite()) {
         return Err(Error::invalid(key, format!("entry {v} is not finite")));
@@ -46,22 +36,12 @@ fn scale(m: &Mat) -> f64 {
 /// largest entry); the error names `key` and the smallest eigenvalue.
 pub fn check_psd(key: &str, m: &Mat) -> Result<()> {
     if !m.is_square() {
-        return Err(Error::invalid(
-            key,
-            format!(
-                "a covariance must be square, found {}×{}",
-                m.nrows(),
-                m.ncols()
-            ),
-        ));
+        return Err(Error::invalid(key, format!("a covariance must be square, found {}×{}", m.nrows(), m.ncols())));
     }
     let s = scale(m);
     let asym = (m - m.transpose()).amax();
     if asym > PSD_TOL * s {
-        return Err(Error::invalid(
-            key,
-            format!("covariance is not symmetric (max |S - Sᵀ| = {asym:.3e})"),
-        ));
+        return Err(Error::invalid(key, format!("covariance is not symmetric (max |S - Sᵀ| = {asym:.3e})")));
     }
     let min = min_eigenvalue(m);
     if min < -PSD_TOL * s * m.nrows() as f64 {

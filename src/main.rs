@@ -61,10 +61,7 @@ fn load(name: &str, opts: &RunOpts) -> Result<spec::Experiment> {
     let mut exp = spec::load(&experiment_path(name)?)?;
     if let Some(t) = opts.trials {
         if t < 2 {
-            return Err(filterbench::Error::invalid(
-                "--trials",
-                "at least 2 trials are needed",
-            ));
+            return Err(filterbench::Error::invalid("--trials", "at least 2 trials are needed"));
         }
         exp.trials = t;
         exp.sample_trajectories = exp.sample_trajectories.min(t);
@@ -79,15 +76,11 @@ fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(t) = threads {
         if t == 0 {
-            return Err(filterbench::Error::invalid(
-                "--threads",
-                "must be at least 1",
-            ));
+            return Err(filterbench::Error::invalid("--threads", "must be at least 1"));
         }
         b = b.num_threads(t);
     }
-    b.build()
-        .map_err(|e| filterbench::Error::invalid("--threads", e.to_string()))
+    b.build().map_err(|e| filterbench::Error::invalid("--threads", e.to_string()))
 }
 
 fn main_inner(cli: Cli) -> Result<()> {
@@ -99,16 +92,9 @@ fn main_inner(cli: Cli) -> Result<()> {
                 println!("{name:w$}  {desc}");
             }
         }
-        Command::Experiment {
-            name,
-            opts,
-            out,
-            quiet,
-        } => {
+        Command::Experiment { name, opts, out, quiet } => {
             let exp = load(&name, &opts)?;
-            let target = out
-                .clone()
-                .unwrap_or_else(|| PathBuf::from("results").join(&exp.name));
+            let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exp.name));
             let staging = Staging::new(&target)?;
             let outcome = pool(opts.threads)?.install(|| run::run(&exp, !quiet))?;
             let overrides = Overrides {

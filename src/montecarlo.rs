@@ -20,7 +20,7 @@ pub const BLOCK: u64 = 64;
 /// Per-filter statistics of one scenario.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FilterStats {
-    /// Summed squared error over the horizon, one value per trial.
+    /// Summed squared error J over the steps that count, one value per trial.
     pub total: Welford,
     /// Squared error |z[k] − ẑ[k]|² at each step.
     pub steps: Vec<Welford>,
@@ -38,13 +38,7 @@ pub struct McStats {
 impl McStats {
     fn new(nf: usize, steps: usize) -> Self {
         McStats {
-            filters: vec![
-                FilterStats {
-                    total: Welford::default(),
-                    steps: vec![Welford::default(); steps]
-                };
-                nf
-            ],
+            filters: vec![FilterStats { total: Welford::default(), steps: vec![Welford::default(); steps] }; nf],
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
         }
     }
@@ -61,9 +55,7 @@ impl McStats {
     }
     /// The pairs (i, j) in the order of `paired`.
     pub fn pairs(nf: usize) -> Vec<(usize, usize)> {
-        (0..nf)
-            .flat_map(|i| (i + 1..nf).map(move |j| (i, j)))
-            .collect()
+        (0..nf).flat_map(|i| (i + 1..nf).map(move |j| (i, j))).collect()
     }
 }
 
@@ -107,12 +99,7 @@ impl Workspace {
 /// Runs trial `trial`: draws its noise, simulates the plant, runs every filter on the same y, and
 /// calls `visit(k, f, z, ẑ)` for each step k and filter f.
 #[inline]
-pub fn run_trial(
-    sc: &Scenario,
-    ws: &mut Workspace,
-    trial: u64,
-    mut visit: impl FnMut(usize, usize, &Vector, &Vector),
-) {
+pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl FnMut(usize, usize, &Vector, &Vector)) {
     let mut rng = trial_rng(sc.seed, sc.index, trial);
     sc.sampler.draw_into(&mut rng, &mut ws.draw);
     let p = sc.plant;
@@ -147,16 +134,14 @@ pub fn run_trial(
 }
 
 fn squared_error(z: &Vector, zhat: &Vector) -> f64 {
-    z.iter()
-        .zip(zhat.iter())
-        .map(|(a, b)| (a - b) * (a - b))
-        .sum()
+    z.iter().zip(zhat.iter()).map(|(a, b)| (a - b) * (a - b)).sum()
 }
 
 fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStats {
     let nf = sc.filters.len();
     let mut st = McStats::new(nf, sc.plant.steps());
     let pairs = McStats::pairs(nf);
+    let plant = sc.plant;
     let mut totals = vec![0.0; nf];
     for t in first..last {
         totals.fill(0.0);
@@ -164,7 +149,9 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
         run_trial(sc, ws, t, |k, f, z, zhat| {
             let e2 = squared_error(z, zhat);
             per_filter[f].steps[k].push(e2);
-            totals[f] += e2;
+            if plant.counts(k) {
+                totals[f] += e2;
+            }
         });
         for (acc, v) in st.filters.iter_mut().zip(&totals) {
             acc.total.push(*v);
@@ -219,11 +206,8 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
     let (nz, steps) = (sc.plant.nz(), sc.plant.steps());
     (0..count)
         .map(|t| {
-            let mut tr = Trajectory {
-                trial: t,
-                z: Mat::zeros(nz, steps),
-                zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
-            };
+            let mut tr =
+                Trajectory { trial: t, z: Mat::zeros(nz, steps), zhat: vec![Mat::zeros(nz, steps); sc.filters.len()] };
             run_trial(sc, &mut ws, t, |k, f, z, zhat| {
                 if f == 0 {
                     tr.z.set_column(k, z);

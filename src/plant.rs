@@ -26,6 +26,8 @@ pub struct Plant {
     pub known_input: Vec<Vector>,
     /// Names and sizes of the blocks of w, in the order they are stacked.
     pub noise_blocks: Vec<(String, usize)>,
+    /// The summed error J counts steps k ≥ sum_from (seed 000 sums n = 1..N; default 0).
+    pub sum_from: usize,
     c_none: Mat,
     d_none: Mat,
 }
@@ -59,6 +61,7 @@ impl Plant {
             first_measurement,
             known_input,
             noise_blocks,
+            sum_from: 0,
             c_none,
             d_none,
         }
@@ -78,24 +81,20 @@ impl Plant {
     pub fn steps(&self) -> usize {
         self.horizon + 1
     }
+    /// Whether step k counts in the summed error J.
+    pub fn counts(&self, k: usize) -> bool {
+        k >= self.sum_from
+    }
     pub fn measured(&self, k: usize) -> bool {
         k >= self.first_measurement
     }
     /// C[k]: zero before the first measurement.
     pub fn c_at(&self, k: usize) -> &Mat {
-        if self.measured(k) {
-            &self.c
-        } else {
-            &self.c_none
-        }
+        if self.measured(k) { &self.c } else { &self.c_none }
     }
     /// D[k]: zero before the first measurement.
     pub fn d_at(&self, k: usize) -> &Mat {
-        if self.measured(k) {
-            &self.d
-        } else {
-            &self.d_none
-        }
+        if self.measured(k) { &self.d } else { &self.d_none }
     }
     /// r[k], or None when the plant has no known input.
     pub fn r_at(&self, k: usize) -> Option<&Vector> {
@@ -103,9 +102,7 @@ impl Plant {
     }
     /// Names of the covariance blocks: "x0" first, then the noise blocks of w.
     pub fn block_names(&self) -> Vec<&str> {
-        std::iter::once("x0")
-            .chain(self.noise_blocks.iter().map(|(n, _)| n.as_str()))
-            .collect()
+        std::iter::once("x0").chain(self.noise_blocks.iter().map(|(n, _)| n.as_str())).collect()
     }
 }
 

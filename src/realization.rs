@@ -58,11 +58,7 @@ impl Realization {
         if self.steps.len() != plant.steps() {
             return Err(Error::design(
                 name,
-                format!(
-                    "{} steps of gains for a horizon of {}",
-                    self.steps.len(),
-                    plant.steps()
-                ),
+                format!("{} steps of gains for a horizon of {}", self.steps.len(), plant.steps()),
             ));
         }
         let ns = self.ns();
@@ -73,16 +69,10 @@ impl Realization {
                 && g.df.shape() == (plant.nz(), plant.ny())
                 && g.gf.shape() == (ns, plant.nx());
             if !ok {
-                return Err(Error::design(
-                    name,
-                    format!("gain sizes at step {k} do not fit the plant"),
-                ));
+                return Err(Error::design(name, format!("gain sizes at step {k} do not fit the plant")));
             }
             if pattern == Pattern::Prediction && g.df.amax() != 0.0 {
-                return Err(Error::design(
-                    name,
-                    format!("a predictor must have Df = 0, but step {k} uses y[k]"),
-                ));
+                return Err(Error::design(name, format!("a predictor must have Df = 0, but step {k} uses y[k]")));
             }
         }
         Ok(())

@@ -49,34 +49,18 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let t = Instant::now();
             let design = registry::design(exp, f)?;
             let seconds = t.elapsed().as_secs_f64();
-            let worst = exact::worst_case(&exp.plant, &design.realization, &exp.nominal, &exp.sets);
-            Ok(DesignedFilter {
-                design,
-                seconds,
-                worst,
-            })
+            let worst = exact::worst_case(&exp.plant, &design.realization, &exp.nominal, &exp.sets)
+                .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
+            Ok(DesignedFilter { design, seconds, worst })
         })
         .collect()
 }
 
 /// Resolves the concrete covariance of every scenario (a worst case needs the designed filter).
-pub fn scenario_covariances(
-    exp: &Experiment,
-    filters: &[DesignedFilter],
-) -> Result<Vec<Covariances>> {
+pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Result<Vec<Covariances>> {
     exp.scenarios
         .iter()
-        .map(|s| {
-            let key = format!("scenarios.{}.covariance", s.name);
-            let worst = |i: usize| -> Result<Covariances> {
-                filters[i]
-                    .worst
-                    .as_ref()
-                    .map(|w| w.argmax.clone())
-                    .ok_or_else(|| Error::invalid(&key, "no uncertainty set"))
-            };
-            s.covariance.covariances(&key, exp, &worst)
-        })
+        .map(|s| s.covariance.covariances(&format!("scenarios.{}.covariance", s.name), exp, Some(filters)))
         .collect()
 }
 
@@ -86,8 +70,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let filters = design_all(exp)?;
     let design_seconds = start.elapsed().as_secs_f64();
     let covs = scenario_covariances(exp, &filters)?;
-    let reals: Vec<&crate::realization::Realization> =
-        filters.iter().map(|f| &f.design.realization).collect();
+    let reals: Vec<&crate::realization::Realization> = filters.iter().map(|f| &f.design.realization).collect();
 
     let total = exp.trials as u64 * exp.scenarios.len() as u64;
     let bar = if show_progress {
@@ -96,32 +79,22 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
         ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden())
     };
     bar.set_style(
-        ProgressStyle::with_template(
-            "{msg:>24} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
+        ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
     );
 
     let mut scenarios = Vec::with_capacity(exp.scenarios.len());
     for (i, (s, cov)) in exp.scenarios.iter().zip(covs).enumerate() {
         bar.set_message(s.name.clone());
         let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape);
-        let sc = montecarlo::Scenario {
-            plant: &exp.plant,
-            filters: &reals,
-            sampler: &sampler,
-            seed: exp.seed,
-            index: i,
-        };
+        let sc =
+            montecarlo::Scenario { plant: &exp.plant, filters: &reals, sampler: &sampler, seed: exp.seed, index: i };
         let t = Instant::now();
         let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
         let mc_seconds = t.elapsed().as_secs_f64();
         let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
-        let exact = reals
-            .iter()
-            .map(|r| exact::error(&exp.plant, r, &cov))
-            .collect();
+        let exact = reals.iter().map(|r| exact::error(&exp.plant, r, &cov)).collect();
         scenarios.push(ScenarioOutcome {
             name: s.name.clone(),
             covariance_label: s.covariance.label(exp),

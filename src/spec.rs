@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::linalg::{Mat, Vector, check_psd, from_rows};
 use crate::noise::{CovChoice, Shape};
 use crate::plant::{Covariances, Plant};
-use crate::uncertainty::CovSet;
+use crate::uncertainty::{CovSet, SetShape};
 
 type Rows = Vec<Vec<f64>>;
 
@@ -58,6 +58,8 @@ struct PlantFile {
     noise_blocks: Vec<String>,
     #[serde(default)]
     first_measurement: usize,
+    #[serde(default)]
+    sum_from: usize,
     known_input: Option<KnownInputFile>,
 }
 
@@ -78,8 +80,24 @@ enum KnownInputFile {
 #[derive(Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 enum SetFile {
-    Box { half_width: HalfWidth },
-    Ball { radius: f64 },
+    Box {
+        half_width: HalfWidth,
+        center: Option<Rows>,
+        #[serde(default)]
+        psd: bool,
+    },
+    Ball {
+        radius: f64,
+        center: Option<Rows>,
+        #[serde(default)]
+        psd: bool,
+    },
+    Loewner {
+        lower: Rows,
+        upper: Rows,
+        #[serde(default)]
+        psd: bool,
+    },
 }
 
 #[derive(Deserialize)]
@@ -117,6 +135,10 @@ pub(crate) enum CovChoiceFile {
     WorstFor {
         filter: String,
     },
+    DesignOf {
+        filter: String,
+    },
+    ElementwiseMax,
 }
 
 /// `given` names its blocks as keys beside `kind`, so the table is read flat and checked here: any
@@ -134,12 +156,12 @@ impl TryFrom<CovChoiceRaw> for CovChoiceFile {
     type Error = String;
     fn try_from(r: CovChoiceRaw) -> std::result::Result<Self, String> {
         let allowed: &[&str] = match r.kind.as_str() {
-            "nominal" | "given" => &[],
+            "nominal" | "given" | "elementwise_max" => &[],
             "vertex" | "interior" => &["seed"],
-            "worst_for" => &["filter"],
+            "worst_for" | "design_of" => &["filter"],
             k => {
                 return Err(format!(
-                    "unknown covariance kind `{k}` (known: nominal, given, vertex, interior, worst_for)"
+                    "unknown covariance kind `{k}` (known: nominal, given, vertex, interior, elementwise_max, worst_for, design_of)"
                 ));
             }
         };
@@ -152,22 +174,17 @@ impl TryFrom<CovChoiceRaw> for CovChoiceFile {
         if let Some(k) = r.blocks.keys().next().filter(|_| r.kind != "given") {
             return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
         }
-        let need =
-            |v: Option<u64>| v.ok_or_else(|| format!("missing field `seed` for kind `{}`", r.kind));
+        let need = |v: Option<u64>| v.ok_or_else(|| format!("missing field `seed` for kind `{}`", r.kind));
         Ok(match r.kind.as_str() {
             "nominal" => CovChoiceFile::Nominal,
             "given" => CovChoiceFile::Given { blocks: r.blocks },
-            "vertex" => CovChoiceFile::Vertex {
-                seed: need(r.seed)?,
-            },
-            "interior" => CovChoiceFile::Interior {
-                seed: need(r.seed)?,
-            },
-            _ => CovChoiceFile::WorstFor {
-                filter: r
-                    .filter
-                    .ok_or("missing field `filter` for kind `worst_for`")?,
-            },
+            "vertex" => CovChoiceFile::Vertex { seed: need(r.seed)? },
+            "elementwise_max" => CovChoiceFile::ElementwiseMax,
+            "design_of" => {
+                CovChoiceFile::DesignOf { filter: r.filter.ok_or("missing field `filter` for kind `design_of`")? }
+            }
+            "interior" => CovChoiceFile::Interior { seed: need(r.seed)? },
+            _ => CovChoiceFile::WorstFor { filter: r.filter.ok_or("missing field `filter` for kind `worst_for`")? },
         })
     }
 }
@@ -227,11 +244,7 @@ impl Experiment {
 /// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
 pub fn load(path: &Path) -> Result<Experiment> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let name = path
-        .file_stem()
-        .and_then(|s| s.to_str())
-        .unwrap_or("experiment")
-        .to_string();
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
     parse(&name, &path.display().to_string(), &text)
 }
 
@@ -243,13 +256,7 @@ pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
 
 fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
     let line_of = |span: Option<std::ops::Range<usize>>| {
-        span.map(|s| {
-            format!(
-                " (line {})",
-                text[..s.start.min(text.len())].lines().count().max(1)
-            )
-        })
-        .unwrap_or_default()
+        span.map(|s| format!(" (line {})", text[..s.start.min(text.len())].lines().count().max(1))).unwrap_or_default()
     };
     let de = toml::Deserializer::parse(text).map_err(|e| Error::Parse {
         file: file.to_string(),
@@ -258,11 +265,7 @@ fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result
     serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.inner();
-        let key = if path == "." {
-            String::new()
-        } else {
-            format!("key `{path}`: ")
-        };
+        let key = if path == "." { String::new() } else { format!("key `{path}`: ") };
         Error::Parse {
             file: file.to_string(),
             message: format!("{key}{}{}", inner.message().trim(), line_of(inner.span())),
@@ -275,11 +278,8 @@ pub fn family_params<T: serde::de::DeserializeOwned>(filter: &FilterSpec) -> Res
     let v = toml::Value::Table(filter.params.clone());
     serde_path_to_error::deserialize(v).map_err(|e| {
         let path = e.path().to_string();
-        let key = if path == "." {
-            format!("filters.{}", filter.name)
-        } else {
-            format!("filters.{}.{path}", filter.name)
-        };
+        let key =
+            if path == "." { format!("filters.{}", filter.name) } else { format!("filters.{}.{path}", filter.name) };
         Error::invalid(key, e.inner().message().trim().to_string())
     })
 }
@@ -296,10 +296,7 @@ pub(crate) fn given_covariances(
     let mut out = nominal.clone();
     for (bname, rows) in blocks {
         let i = names.iter().position(|n| n == bname).ok_or_else(|| {
-            Error::invalid(
-                format!("{key}.{bname}"),
-                format!("unknown covariance block (known: {})", names.join(", ")),
-            )
+            Error::invalid(format!("{key}.{bname}"), format!("unknown covariance block (known: {})", names.join(", ")))
         })?;
         let d = nominal.blocks[i].nrows();
         let m = from_rows(&format!("{key}.{bname}"), rows, Some((d, d)))?;
@@ -312,48 +309,29 @@ pub(crate) fn given_covariances(
 fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let p = &f.plant;
     if p.horizon == 0 {
-        return Err(Error::invalid(
-            "plant.horizon",
-            "the horizon N must be at least 1",
-        ));
+        return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
     }
     if f.trials < 2 {
-        return Err(Error::invalid(
-            "trials",
-            "at least 2 trials are needed for a confidence interval",
-        ));
+        return Err(Error::invalid("trials", "at least 2 trials are needed for a confidence interval"));
     }
     let a = from_rows("plant.A", &p.A, None)?;
     let n = a.nrows();
     if n == 0 || !a.is_square() {
         return Err(Error::invalid(
             "plant.A",
-            format!(
-                "must be square and non-empty, found {}×{}",
-                a.nrows(),
-                a.ncols()
-            ),
+            format!("must be square and non-empty, found {}×{}", a.nrows(), a.ncols()),
         ));
     }
     let b = from_rows("plant.B", &p.B, None)?;
     if b.nrows() != n {
-        return Err(Error::invalid(
-            "plant.B",
-            format!(
-                "expected {n} rows (the state dimension), found {}",
-                b.nrows()
-            ),
-        ));
+        return Err(Error::invalid("plant.B", format!("expected {n} rows (the state dimension), found {}", b.nrows())));
     }
     let nw = b.ncols();
     let c = from_rows("plant.C", &p.C, None)?;
     if c.ncols() != n {
         return Err(Error::invalid(
             "plant.C",
-            format!(
-                "expected {n} columns (the state dimension), found {}",
-                c.ncols()
-            ),
+            format!("expected {n} columns (the state dimension), found {}", c.ncols()),
         ));
     }
     let ny = c.nrows();
@@ -365,10 +343,7 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     if cz.ncols() != n {
         return Err(Error::invalid(
             "plant.Cz",
-            format!(
-                "expected {n} columns (the state dimension), found {}",
-                cz.ncols()
-            ),
+            format!("expected {n} columns (the state dimension), found {}", cz.ncols()),
         ));
     }
     let nz = cz.nrows();
@@ -378,19 +353,16 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     };
     let x0_mean = match &p.x0_mean {
         Some(v) if v.len() != n => {
-            return Err(Error::invalid(
-                "plant.x0_mean",
-                format!("expected {n} entries, found {}", v.len()),
-            ));
+            return Err(Error::invalid("plant.x0_mean", format!("expected {n} entries, found {}", v.len())));
         }
         Some(v) => Vector::from_column_slice(v),
         None => Vector::zeros(n),
     };
+    if p.sum_from > p.horizon {
+        return Err(Error::invalid("plant.sum_from", "must not exceed the horizon"));
+    }
     if p.first_measurement > p.horizon {
-        return Err(Error::invalid(
-            "plant.first_measurement",
-            "must not exceed the horizon",
-        ));
+        return Err(Error::invalid("plant.first_measurement", "must not exceed the horizon"));
     }
     let known_input = match &p.known_input {
         None => Vec::new(),
@@ -398,11 +370,7 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             let m = from_rows("plant.known_input.values", values, Some((p.horizon, n)))?;
             (0..p.horizon).map(|k| m.row(k).transpose()).collect()
         }
-        Some(KnownInputFile::Sine {
-            amplitude,
-            frequency,
-            phase,
-        }) => {
+        Some(KnownInputFile::Sine { amplitude, frequency, phase }) => {
             if amplitude.len() != n {
                 return Err(Error::invalid(
                     "plant.known_input.amplitude",
@@ -410,14 +378,7 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
                 ));
             }
             (0..p.horizon)
-                .map(|k| {
-                    Vector::from_iterator(
-                        n,
-                        amplitude
-                            .iter()
-                            .map(|a| a * (frequency * k as f64 + phase).sin()),
-                    )
-                })
+                .map(|k| Vector::from_iterator(n, amplitude.iter().map(|a| a * (frequency * k as f64 + phase).sin())))
                 .collect()
         }
     };
@@ -426,10 +387,7 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut seen = std::collections::BTreeSet::new();
     for bn in &p.noise_blocks {
         if bn == "x0" || !seen.insert(bn.as_str()) {
-            return Err(Error::invalid(
-                "plant.noise_blocks",
-                format!("block name `{bn}` is reserved or repeated"),
-            ));
+            return Err(Error::invalid("plant.noise_blocks", format!("block name `{bn}` is reserved or repeated")));
         }
     }
     for key in f.nominal.keys() {
@@ -444,20 +402,10 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut dims = Vec::new();
     for bn in std::iter::once("x0").chain(p.noise_blocks.iter().map(String::as_str)) {
         let key = format!("nominal.{bn}");
-        let rows = f
-            .nominal
-            .get(bn)
-            .ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
+        let rows = f.nominal.get(bn).ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
         let m = from_rows(&key, rows, None)?;
         if bn == "x0" && m.shape() != (n, n) {
-            return Err(Error::invalid(
-                key,
-                format!(
-                    "expected a {n}×{n} matrix, found {}×{}",
-                    m.nrows(),
-                    m.ncols()
-                ),
-            ));
+            return Err(Error::invalid(key, format!("expected a {n}×{n} matrix, found {}×{}", m.nrows(), m.ncols())));
         }
         check_psd(&key, &m)?;
         if bn != "x0" {
@@ -472,45 +420,36 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             format!("the noise blocks have {total} components in all but plant.B has {nw} columns"),
         ));
     }
-    let plant = Plant::new(
-        p.horizon,
-        a,
-        b,
-        c,
-        d,
-        cz,
-        dz,
-        x0_mean,
-        p.first_measurement,
-        known_input,
-        dims,
-    );
+    let mut plant = Plant::new(p.horizon, a, b, c, d, cz, dz, x0_mean, p.first_measurement, known_input, dims);
+    plant.sum_from = p.sum_from;
     let nominal = Covariances { blocks };
 
     let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
     let mut sets: Vec<Option<CovSet>> = vec![None; names.len()];
     for (bn, s) in &f.sets {
         let key = format!("sets.{bn}");
-        let i = names.iter().position(|n| n == bn).ok_or_else(|| {
-            Error::invalid(
-                &key,
-                format!("unknown covariance block (known: {})", names.join(", ")),
-            )
-        })?;
-        let center = nominal.blocks[i].clone();
-        let d = center.nrows();
-        sets[i] = Some(match s {
-            SetFile::Box { half_width } => {
-                let hw = match half_width {
+        let i = names
+            .iter()
+            .position(|n| n == bn)
+            .ok_or_else(|| Error::invalid(&key, format!("unknown covariance block (known: {})", names.join(", "))))?;
+        let nom = &nominal.blocks[i];
+        let d = nom.nrows();
+        let matrix = |name: &str, r: &Rows| from_rows(&format!("{key}.{name}"), r, Some((d, d)));
+        let center = |c: &Option<Rows>| c.as_ref().map_or(Ok(nom.clone()), |r| matrix("center", r));
+        let (shape, psd) = match s {
+            SetFile::Box { half_width, center: c, psd } => {
+                let half_width = match half_width {
                     HalfWidth::Scalar(v) => Mat::from_element(d, d, *v),
-                    HalfWidth::Matrix(r) => {
-                        from_rows(&format!("{key}.half_width"), r, Some((d, d)))?
-                    }
+                    HalfWidth::Matrix(r) => matrix("half_width", r)?,
                 };
-                CovSet::new_box(&key, center, hw)?
+                (SetShape::Box { center: center(c)?, half_width }, *psd)
             }
-            SetFile::Ball { radius } => CovSet::new_ball(&key, center, *radius)?,
-        });
+            SetFile::Ball { radius, center: c, psd } => (SetShape::Ball { center: center(c)?, radius: *radius }, *psd),
+            SetFile::Loewner { lower, upper, psd } => {
+                (SetShape::Loewner { lower: matrix("lower", lower)?, upper: matrix("upper", upper)? }, *psd)
+            }
+        };
+        sets[i] = Some(CovSet::new(&key, shape, psd, nom)?);
     }
 
     if f.filters.is_empty() {
@@ -519,37 +458,20 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut fnames = std::collections::BTreeSet::new();
     for (i, fl) in f.filters.iter().enumerate() {
         if !fnames.insert(fl.name.as_str()) {
-            return Err(Error::invalid(
-                format!("filters[{i}].name"),
-                format!("filter name `{}` is repeated", fl.name),
-            ));
+            return Err(Error::invalid(format!("filters[{i}].name"), format!("filter name `{}` is repeated", fl.name)));
         }
         if !crate::families::registry::is_family(&fl.family) {
             return Err(Error::invalid(
                 format!("filters.{}.family", fl.name),
-                format!(
-                    "unknown family `{}` (known: {})",
-                    fl.family,
-                    crate::families::registry::FAMILIES.join(", ")
-                ),
+                format!("unknown family `{}` (known: {})", fl.family, crate::families::registry::FAMILIES.join(", ")),
             ));
         }
     }
-    let filters: Vec<FilterSpec> = f
-        .filters
-        .into_iter()
-        .map(|fl| FilterSpec {
-            name: fl.name,
-            family: fl.family,
-            params: fl.params,
-        })
-        .collect();
+    let filters: Vec<FilterSpec> =
+        f.filters.into_iter().map(|fl| FilterSpec { name: fl.name, family: fl.family, params: fl.params }).collect();
 
     if f.scenarios.is_empty() {
-        return Err(Error::invalid(
-            "scenarios",
-            "the experiment names no scenario",
-        ));
+        return Err(Error::invalid("scenarios", "the experiment names no scenario"));
     }
     let has_sets = sets.iter().any(Option::is_some);
     let mut scenarios = Vec::new();
@@ -562,20 +484,12 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             ));
         }
         let key = format!("scenarios.{}.covariance", s.name);
-        let covariance =
-            CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
+        let covariance = CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
         s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
-        scenarios.push(Scenario {
-            name: s.name,
-            covariance,
-            shape: s.shape,
-        });
+        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape });
     }
     if f.sample_trajectories > f.trials {
-        return Err(Error::invalid(
-            "sample_trajectories",
-            "cannot exceed the number of trials",
-        ));
+        return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));
     }
 
     Ok(Experiment {

@@ -39,11 +39,7 @@ impl Welford {
 
     /// Unbiased sample variance.
     pub fn variance(&self) -> f64 {
-        if self.n < 2 {
-            f64::NAN
-        } else {
-            self.m2 / (self.n - 1) as f64
-        }
+        if self.n < 2 { f64::NAN } else { self.m2 / (self.n - 1) as f64 }
     }
 
     /// Standard error of the mean.

@@ -34,21 +34,11 @@ struct Params {
 pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     let p: Params = family_params(filter)?;
     let key = format!("filters.{}.design", filter.name);
-    if matches!(p.design, CovChoiceFile::WorstFor { .. }) {
-        return Err(Error::invalid(
-            key,
-            "a Kalman filter cannot be designed at another filter's worst case",
-        ));
+    if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+        return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's covariance"));
     }
-    let choice = CovChoice::resolve(
-        &key,
-        &p.design,
-        &exp.plant,
-        &exp.nominal,
-        exp.has_sets(),
-        &exp.filters,
-    )?;
-    let cov = choice.covariances(&key, exp, &|_| unreachable!("refused above"))?;
+    let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
+    let cov = choice.covariances(&key, exp, None)?;
     let realization = kalman(&exp.plant, &cov, exp.pattern);
     let at_design = exact::error(&exp.plant, &realization, &cov);
     Ok(Design {
@@ -58,6 +48,9 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
             total: at_design.total,
             per_step: at_design.per_step,
         }),
+        design_covariance: Some(cov),
+        trace: Vec::new(),
+        diagnostics: Default::default(),
     })
 }
 
@@ -80,20 +73,10 @@ pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization
             }
             Pattern::Prediction => (plant.cz.clone(), Mat::zeros(plant.nz(), plant.ny())),
         };
-        steps.push(Gains {
-            af: &plant.a - &l * c,
-            bf: l.clone(),
-            cf,
-            df,
-            gf: Mat::identity(n, n),
-        });
+        steps.push(Gains { af: &plant.a - &l * c, bf: l.clone(), cf, df, gf: Mat::identity(n, n) });
         pbar = symmetrize(
-            &(&plant.a * &pbar * plant.a.transpose() + &plant.b * &w * plant.b.transpose()
-                - &l * &s * l.transpose()),
+            &(&plant.a * &pbar * plant.a.transpose() + &plant.b * &w * plant.b.transpose() - &l * &s * l.transpose()),
         );
     }
-    Realization {
-        s0: plant.x0_mean.clone(),
-        steps,
-    }
+    Realization { s0: plant.x0_mean.clone(), steps }
 }

@@ -3,8 +3,10 @@
 //! in [`registry`].
 
 pub mod kalman;
+pub mod minimax;
 pub mod registry;
 
+use crate::plant::Covariances;
 use crate::realization::Realization;
 
 /// What a family's theory promises about its error.
@@ -17,9 +19,25 @@ pub struct Guarantee {
     pub per_step: Vec<f64>,
 }
 
+/// One iteration of an iterative design (seed 000 Algorithm 1: s, I(K(s)), the gap δ(s), the step
+/// τ(s) taken after it).
+#[derive(Clone, Debug)]
+pub struct TraceRow {
+    pub iteration: usize,
+    pub objective: f64,
+    pub gap: f64,
+    pub step: f64,
+}
+
 /// A designed filter.
 #[derive(Clone, Debug)]
 pub struct Design {
     pub realization: Realization,
     pub guarantee: Option<Guarantee>,
+    /// The covariance the filter was designed at (Kalman: its `design`; minimax: K̂), if any.
+    pub design_covariance: Option<Covariances>,
+    /// Iterations of the design procedure (empty for closed-form designs).
+    pub trace: Vec<TraceRow>,
+    /// Anything else worth keeping in the manifest (solver figures, which theorem applied, …).
+    pub diagnostics: serde_json::Map<String, serde_json::Value>,
 }

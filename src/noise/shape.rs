@@ -36,10 +36,7 @@ impl Shape {
             Shape::Mixture { weight, ratio }
                 if !((0.0..=1.0).contains(weight) && *ratio > 0.0 && ratio.is_finite()) =>
             {
-                Err(Error::invalid(
-                    key,
-                    format!("mixture needs 0 ≤ weight ≤ 1 and ratio > 0, got {weight}, {ratio}"),
-                ))
+                Err(Error::invalid(key, format!("mixture needs 0 ≤ weight ≤ 1 and ratio > 0, got {weight}, {ratio}")))
             }
             _ => Ok(()),
         }
@@ -58,22 +55,17 @@ impl Shape {
     pub fn sampler(&self) -> StandardDraw {
         match *self {
             Shape::Gaussian => StandardDraw::Gaussian,
-            Shape::Uniform => StandardDraw::Uniform(
-                Uniform::new_inclusive(-3f64.sqrt(), 3f64.sqrt()).expect("valid interval"),
-            ),
+            Shape::Uniform => {
+                StandardDraw::Uniform(Uniform::new_inclusive(-3f64.sqrt(), 3f64.sqrt()).expect("valid interval"))
+            }
             Shape::Laplace => StandardDraw::Laplace,
-            Shape::StudentT { nu } => StandardDraw::StudentT(
-                StudentT::new(nu).expect("validated ν > 2"),
-                ((nu - 2.0) / nu).sqrt(),
-            ),
+            Shape::StudentT { nu } => {
+                StandardDraw::StudentT(StudentT::new(nu).expect("validated ν > 2"), ((nu - 2.0) / nu).sqrt())
+            }
             Shape::Rademacher => StandardDraw::Rademacher,
             Shape::Mixture { weight, ratio } => {
                 let narrow = 1.0 / (1.0 - weight + weight * ratio * ratio).sqrt();
-                StandardDraw::Mixture {
-                    weight,
-                    narrow,
-                    wide: narrow * ratio,
-                }
+                StandardDraw::Mixture { weight, narrow, wide: narrow * ratio }
             }
         }
     }
@@ -110,11 +102,7 @@ impl StandardDraw {
                     1.0
                 }
             }
-            StandardDraw::Mixture {
-                weight,
-                narrow,
-                wide,
-            } => {
+            StandardDraw::Mixture { weight, narrow, wide } => {
                 let g: f64 = StandardNormal.sample(rng);
                 let u: f64 = rand::RngExt::random(rng);
                 if u < *weight { g * wide } else { g * narrow }

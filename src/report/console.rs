@@ -19,18 +19,9 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
         out.threads,
         out.total_seconds
     );
-    let w = exp
-        .filters
-        .iter()
-        .map(|f| f.name.len())
-        .max()
-        .unwrap_or(6)
-        .max(6);
+    let w = exp.filters.iter().map(|f| f.name.len()).max().unwrap_or(6).max(6);
     for sc in &out.scenarios {
-        s += &format!(
-            "\n{} — covariance {}, shape {}\n",
-            sc.name, sc.covariance_label, sc.shape_label
-        );
+        s += &format!("\n{} — covariance {}, shape {}\n", sc.name, sc.covariance_label, sc.shape_label);
         s += &format!(
             "  {:w$}  {:>22}  {:>10}  {:>6}  {:>10}  {:>10}\n",
             "filter", "empirical ± 95%", "exact", "z", "guaranteed", "worst case"

@@ -19,15 +19,11 @@ pub struct Overrides {
 
 /// Versions of the libraries as pinned in this crate's Cargo.toml.
 pub fn library_versions() -> serde_json::Map<String, serde_json::Value> {
-    let manifest: toml::Table =
-        toml::from_str(include_str!("../../Cargo.toml")).unwrap_or_default();
+    let manifest: toml::Table = toml::from_str(include_str!("../../Cargo.toml")).unwrap_or_default();
     let mut out = serde_json::Map::new();
     if let Some(deps) = manifest.get("dependencies").and_then(|d| d.as_table()) {
         for (name, v) in deps {
-            let ver = v
-                .as_str()
-                .or_else(|| v.get("version").and_then(|x| x.as_str()))
-                .unwrap_or("?");
+            let ver = v.as_str().or_else(|| v.get("version").and_then(|x| x.as_str())).unwrap_or("?");
             out.insert(name.clone(), serde_json::Value::String(ver.to_string()));
         }
     }
@@ -35,22 +31,19 @@ pub fn library_versions() -> serde_json::Map<String, serde_json::Value> {
 }
 
 fn matrix(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows())
-        .map(|i| m.row(i).iter().copied().collect())
-        .collect()
+    (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect()
 }
 
 pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &Path) -> Result<()> {
     let names = exp.plant.block_names();
+    let cov_json = |c: &crate::plant::Covariances| -> serde_json::Map<String, serde_json::Value> {
+        names.iter().zip(&c.blocks).map(|(n, m)| (n.to_string(), serde_json::json!(matrix(m)))).collect()
+    };
     let scenarios: Vec<_> = out
         .scenarios
         .iter()
         .map(|s| {
-            let blocks: serde_json::Map<_, _> = names
-                .iter()
-                .zip(&s.covariances.blocks)
-                .map(|(n, m)| (n.to_string(), serde_json::json!(matrix(m))))
-                .collect();
+            let blocks = cov_json(&s.covariances);
             serde_json::json!({
                 "name": s.name, "covariance": s.covariance_label, "shape": s.shape_label,
                 "covariances": blocks, "mc_seconds": s.mc_seconds,
@@ -66,6 +59,8 @@ pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &P
                 "name": f.name, "family": f.family, "params": f.params, "design_seconds": d.seconds,
                 "guarantee": d.design.guarantee.as_ref().map(|g| serde_json::json!({"kind": g.kind, "total": g.total})),
                 "worst_case": d.worst.as_ref().map(|w| w.total),
+                "design_covariance": d.design.design_covariance.as_ref().map(cov_json),
+                "diagnostics": d.design.diagnostics,
             })
         })
         .collect();

@@ -1,5 +1,6 @@
 //! The output contract of ARCHITECTURE.md: `summary.parquet`, `steps.parquet`, `gains.parquet`,
-//! `paired.parquet`, `manifest.json` and `recording.rrd` in one folder, plus the console table.
+//! `paired.parquet`, `design_trace.parquet`, `manifest.json` and `recording.rrd` in one folder, plus
+//! the console table.
 //!
 //! Everything is written into a temporary sibling folder that is renamed onto the target only when
 //! every file is complete, so a failed run leaves the previous results untouched.
@@ -25,11 +26,7 @@ pub struct Staging {
 impl Staging {
     /// Creates the temporary folder now, so an unwritable destination fails before any work.
     pub fn new(target: &Path) -> Result<Self> {
-        let name = target
-            .file_name()
-            .and_then(|s| s.to_str())
-            .unwrap_or("results")
-            .to_string();
+        let name = target.file_name().and_then(|s| s.to_str()).unwrap_or("results").to_string();
         let parent = match target.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -40,13 +37,8 @@ impl Staging {
         if tmp.exists() {
             std::fs::remove_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
         }
-        std::fs::create_dir(&tmp)
-            .map_err(|e| Error::io(&parent, format!("output folder is not writable: {e}")))?;
-        Ok(Staging {
-            tmp,
-            target: target.to_path_buf(),
-            committed: false,
-        })
+        std::fs::create_dir(&tmp).map_err(|e| Error::io(&parent, format!("output folder is not writable: {e}")))?;
+        Ok(Staging { tmp, target: target.to_path_buf(), committed: false })
     }
     pub fn path(&self) -> &Path {
         &self.tmp
@@ -55,10 +47,7 @@ impl Staging {
     pub fn commit(mut self) -> Result<PathBuf> {
         let old = self.tmp.with_file_name(format!(
             ".{}.old-{}",
-            self.target
-                .file_name()
-                .and_then(|s| s.to_str())
-                .unwrap_or("results"),
+            self.target.file_name().and_then(|s| s.to_str()).unwrap_or("results"),
             std::process::id()
         ));
         let had_old = self.target.exists();
@@ -88,16 +77,12 @@ impl Drop for Staging {
 }
 
 /// Writes every file of the output contract into `dir`.
-pub fn write_all(
-    exp: &Experiment,
-    out: &RunOutcome,
-    dir: &Path,
-    overrides: &manifest::Overrides,
-) -> Result<()> {
+pub fn write_all(exp: &Experiment, out: &RunOutcome, dir: &Path, overrides: &manifest::Overrides) -> Result<()> {
     parquet::write_summary(exp, out, &dir.join("summary.parquet"))?;
     parquet::write_steps(exp, out, &dir.join("steps.parquet"))?;
     parquet::write_gains(exp, out, &dir.join("gains.parquet"))?;
     parquet::write_paired(exp, out, &dir.join("paired.parquet"))?;
+    parquet::write_trace(exp, out, &dir.join("design_trace.parquet"))?;
     recording::write(exp, out, &dir.join("recording.rrd"))?;
     manifest::write(exp, out, overrides, &dir.join("manifest.json"))?;
     Ok(())

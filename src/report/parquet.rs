@@ -12,9 +12,7 @@ use crate::spec::Experiment;
 fn write(df: &mut DataFrame, path: &Path) -> Result<()> {
     let what = path.display().to_string();
     let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    ParquetWriter::new(file)
-        .finish(df)
-        .map_err(|e| Error::output(&what, e))?;
+    ParquetWriter::new(file).finish(df).map_err(|e| Error::output(&what, e))?;
     Ok(())
 }
 
@@ -50,10 +48,8 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.ci_low.push(lo);
             c.ci_high.push(hi);
             c.exact.push(Some(sc.exact[f].total));
-            c.guaranteed
-                .push(d.design.guarantee.as_ref().map(|g| g.total));
-            c.guarantee_kind
-                .push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
+            c.guaranteed.push(d.design.guarantee.as_ref().map(|g| g.total));
+            c.guarantee_kind.push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             c.violations.push(None);
@@ -113,16 +109,8 @@ struct SummaryCols {
 
 /// One row per (scenario, filter, step).
 pub fn write_steps(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
-    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) = (
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-    );
+    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
             let g = out.filters[f].design.guarantee.as_ref();
@@ -176,12 +164,7 @@ pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
     };
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
         let r = &d.design.realization;
-        push(
-            &spec.name,
-            0,
-            "s0",
-            &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()),
-        );
+        push(&spec.name, 0, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
         for (k, g) in r.steps.iter().enumerate() {
             push(&spec.name, k, "Af", &g.af);
             push(&spec.name, k, "Bf", &g.bf);
@@ -207,17 +190,8 @@ pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
 
 /// Paired differences of the summed error between every two filters on the same draws.
 pub fn write_paired(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
-    let (mut sc_, mut a, mut b, mut n, mut mean, mut se, mut lo, mut hi, mut ex) = (
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-        vec![],
-    );
+    let (mut sc_, mut a, mut b, mut n, mut mean, mut se, mut lo, mut hi, mut ex) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     let pairs = McStats::pairs(exp.filters.len());
     for sc in &out.scenarios {
         for (w, &(i, j)) in sc.mc.paired.iter().zip(&pairs) {
@@ -247,6 +221,26 @@ pub fn write_paired(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<(
             col("ci_high", hi),
             col("exact_diff", ex),
         ],
+        path,
+    )?;
+    write(&mut df, path)
+}
+
+/// The iterations of every iterative design: filter, iteration, objective (I(K(s)) for minimax),
+/// gap (δ(s)), step (τ(s)).
+pub fn write_trace(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+    let (mut fl, mut it, mut obj, mut gap, mut step) = (vec![], vec![], vec![], vec![], vec![]);
+    for (spec, d) in exp.filters.iter().zip(&out.filters) {
+        for r in &d.design.trace {
+            fl.push(spec.name.clone());
+            it.push(r.iteration as u32);
+            obj.push(r.objective);
+            gap.push(r.gap);
+            step.push(r.step);
+        }
+    }
+    let mut df = frame(
+        vec![col("filter", fl), col("iteration", it), col("objective", obj), col("gap", gap), col("step", step)],
         path,
     )?;
     write(&mut df, path)

@@ -4,6 +4,8 @@
 //!   error from Monte Carlo with its 95 % interval, the exact value and the family's bound;
 //! - `trajectories/<scenario>/trial_<t>/z<j>/{truth, <filter>}`: sample trials, truth and every
 //!   estimate of each component of z;
+//! - `design/<filter>/{objective, gap, step}` on the `iteration` timeline: iterative designs
+//!   (minimax: I(K(s)), δ(s), τ(s));
 //! - `summary`: one text line per (scenario, filter) with the summed figures.
 
 use std::path::Path;
@@ -14,23 +16,13 @@ use crate::spec::Experiment;
 
 /// Entity-path-safe form of a user-given name.
 fn part(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' { c } else { '_' }).collect()
 }
 
 pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
     let what = path.display().to_string();
     let err = |e: &dyn std::fmt::Display| Error::output(&what, e);
-    let rec = rerun::RecordingStreamBuilder::new("filterbench")
-        .save(path)
-        .map_err(|e| err(&e))?;
+    let rec = rerun::RecordingStreamBuilder::new("filterbench").save(path).map_err(|e| err(&e))?;
     for sc in &out.scenarios {
         let s = part(&sc.name);
         for (f, spec) in exp.filters.iter().enumerate() {
@@ -39,23 +31,13 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
             for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
                 rec.set_time_sequence("step", k as i64);
                 let (lo, hi) = w.ci95();
-                rec.log(format!("{base}/empirical"), &rerun::Scalars::single(w.mean))
+                rec.log(format!("{base}/empirical"), &rerun::Scalars::single(w.mean)).map_err(|e| err(&e))?;
+                rec.log(format!("{base}/ci_low"), &rerun::Scalars::single(lo)).map_err(|e| err(&e))?;
+                rec.log(format!("{base}/ci_high"), &rerun::Scalars::single(hi)).map_err(|e| err(&e))?;
+                rec.log(format!("{base}/exact"), &rerun::Scalars::single(sc.exact[f].per_step[k]))
                     .map_err(|e| err(&e))?;
-                rec.log(format!("{base}/ci_low"), &rerun::Scalars::single(lo))
-                    .map_err(|e| err(&e))?;
-                rec.log(format!("{base}/ci_high"), &rerun::Scalars::single(hi))
-                    .map_err(|e| err(&e))?;
-                rec.log(
-                    format!("{base}/exact"),
-                    &rerun::Scalars::single(sc.exact[f].per_step[k]),
-                )
-                .map_err(|e| err(&e))?;
                 if let Some(g) = g {
-                    rec.log(
-                        format!("{base}/bound"),
-                        &rerun::Scalars::single(g.per_step[k]),
-                    )
-                    .map_err(|e| err(&e))?;
+                    rec.log(format!("{base}/bound"), &rerun::Scalars::single(g.per_step[k])).map_err(|e| err(&e))?;
                 }
             }
         }
@@ -64,20 +46,22 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
                 let base = format!("trajectories/{s}/trial_{}/z{}", tr.trial, j + 1);
                 for k in 0..tr.z.ncols() {
                     rec.set_time_sequence("step", k as i64);
-                    rec.log(
-                        format!("{base}/truth"),
-                        &rerun::Scalars::single(tr.z[(j, k)]),
-                    )
-                    .map_err(|e| err(&e))?;
+                    rec.log(format!("{base}/truth"), &rerun::Scalars::single(tr.z[(j, k)])).map_err(|e| err(&e))?;
                     for (f, spec) in exp.filters.iter().enumerate() {
-                        rec.log(
-                            format!("{base}/{}", part(&spec.name)),
-                            &rerun::Scalars::single(tr.zhat[f][(j, k)]),
-                        )
-                        .map_err(|e| err(&e))?;
+                        rec.log(format!("{base}/{}", part(&spec.name)), &rerun::Scalars::single(tr.zhat[f][(j, k)]))
+                            .map_err(|e| err(&e))?;
                     }
                 }
             }
+        }
+    }
+    for (spec, d) in exp.filters.iter().zip(&out.filters) {
+        let base = format!("design/{}", part(&spec.name));
+        for r in &d.design.trace {
+            rec.set_time_sequence("iteration", r.iteration as i64);
+            rec.log(format!("{base}/objective"), &rerun::Scalars::single(r.objective)).map_err(|e| err(&e))?;
+            rec.log(format!("{base}/gap"), &rerun::Scalars::single(r.gap)).map_err(|e| err(&e))?;
+            rec.log(format!("{base}/step"), &rerun::Scalars::single(r.step)).map_err(|e| err(&e))?;
         }
     }
     rec.reset_time();
@@ -89,8 +73,7 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
                 "{} / {}: empirical {:.6} [{:.6}, {:.6}], exact {:.6}",
                 sc.name, spec.name, st.mean, lo, hi, sc.exact[f].total
             );
-            rec.log_static("summary", &rerun::TextLog::new(line))
-                .map_err(|e| err(&e))?;
+            rec.log_static("summary", &rerun::TextLog::new(line)).map_err(|e| err(&e))?;
         }
     }
     rec.flush_blocking().map_err(|e| err(&e))?;

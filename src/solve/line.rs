@@ -1,20 +1,46 @@
 //! Maximizing a concave function on an interval: the exact line search of seed 000 Algorithm 1
-//! step 4, by bisection on the sign of the derivative (the envelope theorem gives the derivative of
-//! the dual functional I for the price of one gradient).
+//! step 4, as a root of the derivative (the envelope theorem gives the derivative of the dual
+//! functional I for the price of one gradient).
 
-/// argmax over τ ∈ [0, 1] of a concave φ, given φ'(τ). Bisection to `tol` in τ: the result is the
-/// maximizer to that precision (an endpoint when φ' does not change sign).
+/// argmax over τ ∈ [0, 1] of a concave φ, given φ'(τ) (non-increasing). Regula falsi with the
+/// Illinois modification on φ', which keeps a bracket and converges superlinearly; stops when the
+/// bracket is shorter than `tol`. An endpoint is returned when φ' does not change sign.
 pub fn maximize_concave_01(dphi: impl Fn(f64) -> f64, tol: f64) -> f64 {
-    if dphi(1.0) >= 0.0 {
-        return 1.0;
-    }
-    if dphi(0.0) <= 0.0 {
+    let (mut a, mut fa) = (0.0, dphi(0.0));
+    if fa <= 0.0 {
         return 0.0;
     }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    while hi - lo > tol {
-        let mid = 0.5 * (lo + hi);
-        if dphi(mid) > 0.0 { lo = mid } else { hi = mid }
+    let (mut b, mut fb) = (1.0, dphi(1.0));
+    if fb >= 0.0 {
+        return 1.0;
     }
-    0.5 * (lo + hi)
+    let mut side = 0i8;
+    for _ in 0..200 {
+        let c = (a * fb - b * fa) / (fb - fa);
+        // Fall back to bisection if the secant point is not strictly inside the bracket.
+        let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+        let fc = dphi(c);
+        if fc == 0.0 {
+            return c;
+        }
+        if fc > 0.0 {
+            a = c;
+            fa = fc;
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        } else {
+            b = c;
+            fb = fc;
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        }
+        if b - a < tol {
+            break;
+        }
+    }
+    if fa.abs() < fb.abs() { a } else { b }
 }

@@ -22,6 +22,8 @@ pub struct SymConstraints {
     pub lower: Option<Mat>,
     /// S ⪯ upper.
     pub upper: Option<Mat>,
+    /// S ⪰ 0.
+    pub psd: bool,
 }
 
 /// The maximizer of a linear function over a constrained set, as clarabel returned it.
@@ -74,7 +76,8 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
         }
         cones.push(SupportedConeT::SecondOrderConeT(m + 1));
     }
-    for (bound, sign) in [(&cons.lower, -1.0), (&cons.upper, 1.0)] {
+    let zero = cons.psd.then(|| Mat::zeros(n, n));
+    for (bound, sign) in [(&cons.lower, -1.0), (&cons.upper, 1.0), (&zero, -1.0)] {
         if let Some(l) = bound {
             // lower: svec(S − L) = −A x + b with A = −scale, b = −scale·l; upper: svec(U − S).
             for (t, &(i, j)) in idx.iter().enumerate() {
@@ -97,7 +100,8 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
         .max_threads(1)
         .build()
         .map_err(|e| format!("clarabel settings: {e}"))?;
-    let mut solver = DefaultSolver::new(&p, &c, &a, &b, &cones, settings).map_err(|e| format!("clarabel setup: {e:?}"))?;
+    let mut solver =
+        DefaultSolver::new(&p, &c, &a, &b, &cones, settings).map_err(|e| format!("clarabel setup: {e:?}"))?;
     solver.solve();
     let sol = &solver.solution;
     match sol.status {
@@ -109,5 +113,10 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
         s[(i, j)] = sol.x[t];
         s[(j, i)] = sol.x[t];
     }
-    Ok(LinearMax { value: crate::linalg::frob_dot(&gs, &s), argmax: s, iterations: sol.iterations, solve_seconds: sol.solve_time })
+    Ok(LinearMax {
+        value: crate::linalg::frob_dot(&gs, &s),
+        argmax: s,
+        iterations: sol.iterations,
+        solve_seconds: sol.solve_time,
+    })
 }

@@ -7,11 +7,7 @@ use std::process::Command;
 const BIN: &str = env!("CARGO_BIN_EXE_filterbench");
 
 fn baseline_text() -> String {
-    std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/experiments/kalman_baseline.toml"
-    ))
-    .unwrap()
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml")).unwrap()
 }
 
 /// Runs `experiment FILE --out DIR` where DIR already holds a previous result, and checks the run
@@ -24,33 +20,13 @@ fn fails_cleanly(text: &str, needles: &[&str]) {
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("summary.parquet"), b"previous").unwrap();
     let o = Command::new(BIN)
-        .args([
-            "experiment",
-            file.to_str().unwrap(),
-            "--trials",
-            "2",
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ])
+        .args(["experiment", file.to_str().unwrap(), "--trials", "2", "--quiet", "--out", out.to_str().unwrap()])
         .output()
         .unwrap();
     check_failure(&o, needles);
-    let entries: Vec<_> = std::fs::read_dir(out.parent().unwrap())
-        .unwrap()
-        .flatten()
-        .map(|e| e.file_name())
-        .collect();
-    assert_eq!(
-        entries,
-        vec![std::ffi::OsString::from("bad")],
-        "no temporary folder is left behind"
-    );
-    assert_eq!(
-        std::fs::read(out.join("summary.parquet")).unwrap(),
-        b"previous",
-        "previous results untouched"
-    );
+    let entries: Vec<_> = std::fs::read_dir(out.parent().unwrap()).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(entries, vec![std::ffi::OsString::from("bad")], "no temporary folder is left behind");
+    assert_eq!(std::fs::read(out.join("summary.parquet")).unwrap(), b"previous", "previous results untouched");
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
 }
 
@@ -81,24 +57,15 @@ fn missing_field() {
 fn wrong_matrix_size() {
     let t = baseline_text().replace("C = [[0.5, 0.4,  0.1],", "C = [[0.5, 0.4],");
     fails_cleanly(&t, &["plant.C", "row 2 has 3 entries"]);
-    let t = baseline_text().replace(
-        "x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
-        "x0 = [[1, 0], [0, 1]]",
-    );
+    let t = baseline_text().replace("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 0], [0, 1]]");
     fails_cleanly(&t, &["nominal.x0", "3×3"]);
 }
 
 #[test]
 fn covariance_not_symmetric_or_not_psd() {
-    let t = baseline_text().replace(
-        "measurement = [[ 0.9, -0.4, 0.2],",
-        "measurement = [[ 0.9, -0.3, 0.2],",
-    );
+    let t = baseline_text().replace("measurement = [[ 0.9, -0.4, 0.2],", "measurement = [[ 0.9, -0.3, 0.2],");
     fails_cleanly(&t, &["nominal.measurement", "not symmetric"]);
-    let t = baseline_text().replace(
-        "x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
-        "x0 = [[1, 2, 0], [2, 1, 0], [0, 0, 1]]",
-    );
+    let t = baseline_text().replace("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 2, 0], [2, 1, 0], [0, 0, 1]]");
     fails_cleanly(&t, &["nominal.x0", "not positive semidefinite"]);
 }
 
@@ -113,21 +80,12 @@ fn unknown_family_and_filter_reference() {
     let t = baseline_text().replacen("family = \"kalman\"", "family = \"kalmann\"", 1);
     fails_cleanly(&t, &["filters.kalman_nominal.family", "unknown family"]);
     let t = baseline_text().replace("filter = \"kalman_nominal\" }", "filter = \"nobody\" }");
-    fails_cleanly(
-        &t,
-        &[
-            "scenarios.worst_for_kalman_nominal.covariance.filter",
-            "nobody",
-        ],
-    );
+    fails_cleanly(&t, &["scenarios.worst_for_kalman_nominal.covariance.filter", "nobody"]);
 }
 
 #[test]
 fn nonexistent_experiment_name() {
-    let o = Command::new(BIN)
-        .args(["experiment", "no_such_experiment", "--quiet"])
-        .output()
-        .unwrap();
+    let o = Command::new(BIN).args(["experiment", "no_such_experiment", "--quiet"]).output().unwrap();
     check_failure(&o, &["no_such_experiment", "filterbench list"]);
 }
 
@@ -138,15 +96,7 @@ fn unwritable_output_folder() {
     std::fs::write(&blocker, b"x").unwrap();
     let out = blocker.join("results");
     let o = Command::new(BIN)
-        .args([
-            "experiment",
-            "kalman_baseline",
-            "--trials",
-            "2",
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ])
+        .args(["experiment", "kalman_baseline", "--trials", "2", "--quiet", "--out", out.to_str().unwrap()])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();

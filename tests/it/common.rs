@@ -4,10 +4,7 @@ use filterbench::spec::{self, Experiment};
 
 /// The shipped `kalman_baseline` experiment with `trials` trials.
 pub fn baseline(trials: usize) -> Experiment {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/experiments/kalman_baseline.toml"
-    );
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml");
     let mut e = spec::load(std::path::Path::new(path)).expect("kalman_baseline parses");
     e.trials = trials;
     e
@@ -73,12 +70,7 @@ shape = { kind = "mixture", weight = 0.1, ratio = 4.0 }
 "#;
 
 pub fn shapes(pattern: &str) -> Experiment {
-    spec::parse(
-        "shapes",
-        "shapes.toml",
-        &SHAPES_TOML.replace("PATTERN", pattern),
-    )
-    .expect("test plant parses")
+    spec::parse("shapes", "shapes.toml", &SHAPES_TOML.replace("PATTERN", pattern)).expect("test plant parses")
 }
 
 /// A fresh folder under the system temp dir, removed on drop. (No dev-dependency for this: a

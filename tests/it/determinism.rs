@@ -5,11 +5,7 @@ use filterbench::run;
 use crate::common;
 
 fn run_with(threads: usize, exp: &filterbench::spec::Experiment) -> run::RunOutcome {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(|| run::run(exp, false).unwrap())
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| run::run(exp, false).unwrap())
 }
 
 #[test]
@@ -21,18 +17,10 @@ fn one_and_two_threads_give_identical_bits() {
     assert_eq!(a.threads, 1);
     assert_eq!(b.threads, 2);
     for (x, y) in a.scenarios.iter().zip(&b.scenarios) {
-        assert!(
-            x.mc == y.mc,
-            "scenario {}: statistics differ between 1 and 2 threads",
-            x.name
-        );
+        assert!(x.mc == y.mc, "scenario {}: statistics differ between 1 and 2 threads", x.name);
         for (f, (p, q)) in x.mc.filters.iter().zip(&y.mc.filters).enumerate() {
             assert_eq!(p.total.mean.to_bits(), q.total.mean.to_bits(), "filter {f}");
-            assert_eq!(
-                p.total.variance().to_bits(),
-                q.total.variance().to_bits(),
-                "filter {f}"
-            );
+            assert_eq!(p.total.variance().to_bits(), q.total.variance().to_bits(), "filter {f}");
         }
         for (t, u) in x.trajectories.iter().zip(&y.trajectories) {
             assert_eq!(t.z, u.z);

@@ -50,10 +50,7 @@ fn check(exp: &filterbench::spec::Experiment) {
             }
         }
     }
-    eprintln!(
-        "{}: largest |z| total {worst_total:.2}σ, per step {worst_step:.2}σ",
-        exp.name
-    );
+    eprintln!("{}: largest |z| total {worst_total:.2}σ, per step {worst_step:.2}σ", exp.name);
 }
 
 #[test]

@@ -6,7 +6,7 @@ use filterbench::exact;
 use filterbench::noise::{NoiseSampler, Shape, trial_rng};
 use filterbench::plant::Covariances;
 use filterbench::run;
-use filterbench::uncertainty::CovSet;
+use filterbench::uncertainty::{CovSet, SetShape};
 
 use crate::common;
 
@@ -22,13 +22,7 @@ struct Moments {
 
 impl Moments {
     fn new(m: usize) -> Self {
-        Moments {
-            m,
-            n: 0.0,
-            sum: vec![0.0; m],
-            prod: vec![0.0; m * m],
-            prod2: vec![0.0; m * m],
-        }
+        Moments { m, n: 0.0, sum: vec![0.0; m], prod: vec![0.0; m * m], prod2: vec![0.0; m * m] }
     }
     fn push(&mut self, v: impl Fn(usize) -> f64) {
         self.n += 1.0;
@@ -46,27 +40,14 @@ impl Moments {
         let (m, n) = (self.m, self.n);
         for i in 0..m {
             let se = (target[(i, i)] / n).sqrt();
-            assert!(
-                (self.sum[i] / n).abs() <= 4.5 * se,
-                "{what}: mean of entry {i} = {}",
-                self.sum[i] / n
-            );
+            assert!((self.sum[i] / n).abs() <= 4.5 * se, "{what}: mean of entry {i} = {}", self.sum[i] / n);
             for j in 0..m {
                 let mean = self.prod[i * m + j] / n;
                 let se = ((self.prod2[i * m + j] / n - mean * mean).max(0.0) / n).sqrt();
                 let d = mean - target[(i, j)];
                 // A product that never varies (Rademacher squares are exactly 1) must be exact.
-                let ok = if se > 1e-12 {
-                    (d / se).abs() <= 4.5
-                } else {
-                    d.abs() <= 1e-9
-                };
-                assert!(
-                    ok,
-                    "{what}: covariance ({i},{j}) = {mean} vs {} ({:.2}σ)",
-                    target[(i, j)],
-                    d / se
-                );
+                let ok = if se > 1e-12 { (d / se).abs() <= 4.5 } else { d.abs() <= 1e-9 };
+                assert!(ok, "{what}: covariance ({i},{j}) = {mean} vs {} ({:.2}σ)", target[(i, j)], d / se);
             }
         }
     }
@@ -99,10 +80,7 @@ fn every_shape_has_the_target_covariance() {
         Shape::Laplace,
         Shape::StudentT { nu: 5.0 },
         Shape::Rademacher,
-        Shape::Mixture {
-            weight: 0.1,
-            ratio: 4.0,
-        },
+        Shape::Mixture { weight: 0.1, ratio: 4.0 },
     ] {
         check_shape(&shape);
     }
@@ -113,37 +91,43 @@ fn vertices_and_interior_points_lie_where_they_should() {
     use rand::SeedableRng;
     let center = nalgebra::DMatrix::from_row_slice(2, 2, &[1.0, 0.2, 0.2, 0.8]);
     let hw = nalgebra::DMatrix::from_row_slice(2, 2, &[0.1, 0.05, 0.05, 0.2]);
-    let bx = CovSet::new_box("t", center.clone(), hw.clone()).unwrap();
-    let ball = CovSet::new_ball("t", center.clone(), 0.3).unwrap();
+    let bx = CovSet::new("t", SetShape::Box { center: center.clone(), half_width: hw.clone() }, false, &center).unwrap();
+    let ball = CovSet::new("t", SetShape::Ball { center: center.clone(), radius: 0.3 }, false, &center).unwrap();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     for _ in 0..100 {
-        let v = bx.random_vertex(&mut rng);
-        let i = bx.random_interior(&mut rng);
+        let v = bx.random_vertex(&mut rng).unwrap();
+        let i = bx.random_interior(&mut rng).unwrap();
         assert_eq!(v, v.transpose());
         assert_eq!(i, i.transpose());
         for r in 0..2 {
             for c in 0..2 {
-                assert!(
-                    ((v[(r, c)] - center[(r, c)]).abs() - hw[(r, c)]).abs() < 1e-15,
-                    "vertex entry on the bound"
-                );
-                assert!(
-                    (i[(r, c)] - center[(r, c)]).abs() <= hw[(r, c)],
-                    "interior entry inside"
-                );
+                assert!(((v[(r, c)] - center[(r, c)]).abs() - hw[(r, c)]).abs() < 1e-15, "vertex entry on the bound");
+                assert!((i[(r, c)] - center[(r, c)]).abs() <= hw[(r, c)], "interior entry inside");
             }
         }
-        let bv = ball.random_vertex(&mut rng);
-        let bi = ball.random_interior(&mut rng);
-        assert!(
-            ((&bv - &center).norm() - 0.3).abs() < 1e-12,
-            "ball extreme point on the sphere"
-        );
-        assert!(
-            (&bi - &center).norm() <= 0.3 + 1e-12,
-            "ball interior point inside"
-        );
+        let bv = ball.random_vertex(&mut rng).unwrap();
+        let bi = ball.random_interior(&mut rng).unwrap();
+        assert!(((&bv - &center).norm() - 0.3).abs() < 1e-12, "ball extreme point on the sphere");
+        assert!((&bi - &center).norm() <= 0.3 + 1e-12, "ball interior point inside");
         assert_eq!(bv, bv.transpose());
+    }
+    // Loewner interval: vertices are lower + T^½ P T^½ with P a projection, interior points lie in
+    // between; with the PSD intersection every draw is PSD.
+    let lower = nalgebra::DMatrix::from_row_slice(2, 2, &[0.5, 0.1, 0.1, 0.4]);
+    let upper = nalgebra::DMatrix::from_row_slice(2, 2, &[1.5, 0.3, 0.3, 1.2]);
+    let lw = CovSet::new("t", SetShape::Loewner { lower: lower.clone(), upper: upper.clone() }, false, &center).unwrap();
+    let min_eig = |m: &nalgebra::DMatrix<f64>| filterbench::linalg::min_eigenvalue(m);
+    for _ in 0..100 {
+        for s in [lw.random_vertex(&mut rng).unwrap(), lw.random_interior(&mut rng).unwrap()] {
+            assert!(min_eig(&(&s - &lower)) >= -1e-12 && min_eig(&(&upper - &s)) >= -1e-12, "inside the interval");
+        }
+    }
+    let psd_box =
+        CovSet::new("t", SetShape::Box { center: center.clone(), half_width: nalgebra::DMatrix::from_element(2, 2, 0.7) }, true, &center)
+            .unwrap();
+    for _ in 0..100 {
+        assert!(min_eig(&psd_box.random_vertex(&mut rng).unwrap()) >= -1e-12);
+        assert!(min_eig(&psd_box.random_interior(&mut rng).unwrap()) >= -1e-12);
     }
 }
 
@@ -166,19 +150,12 @@ fn worst_case_for_a_filter_beats_every_sampled_point_of_the_set() {
             let mut cov: Covariances = exp.nominal.clone();
             for (i, s) in exp.sets.iter().enumerate() {
                 if let Some(s) = s {
-                    cov.blocks[i] = if rng.next_u32() & 1 == 0 {
-                        s.random_vertex(&mut rng)
-                    } else {
-                        s.random_interior(&mut rng)
-                    };
+                    cov.blocks[i] =
+                        if rng.next_u32() & 1 == 0 { s.random_vertex(&mut rng).unwrap() } else { s.random_interior(&mut rng).unwrap() };
                 }
             }
             let j = exact::error(&exp.plant, real, &cov).total;
-            assert!(
-                j <= worst.total * (1.0 + 1e-12),
-                "a sampled point {j} exceeds the worst case {}",
-                worst.total
-            );
+            assert!(j <= worst.total * (1.0 + 1e-12), "a sampled point {j} exceeds the worst case {}", worst.total);
         }
     }
 }

@@ -12,16 +12,7 @@ use crate::common;
 /// Seed 000 eqs (4)–(6) written out for its own notation (b, d separate, P[0] = Sγ, no measurement
 /// at n = 0): returns Σ_{n=0..N} tr P[n] (filtering) and Σ tr P̄[n] (prediction, P̄[0] = Sγ).
 #[allow(clippy::too_many_arguments)]
-fn seed000_sums(
-    a: &Mat,
-    b: &Mat,
-    c: &Mat,
-    d: &Mat,
-    sg: &Mat,
-    se: &Mat,
-    sw: &Mat,
-    n: usize,
-) -> (f64, f64) {
+fn seed000_sums(a: &Mat, b: &Mat, c: &Mat, d: &Mat, sg: &Mat, se: &Mat, sw: &Mat, n: usize) -> (f64, f64) {
     let mut p = sg.clone();
     let (mut filt, mut pred) = (p.trace(), p.trace());
     for _ in 1..=n {
@@ -42,57 +33,29 @@ fn matches_seed_000_equations_in_both_forms() {
     let b = pl.b.columns(0, 3).into_owned();
     let d = pl.d.columns(3, 3).into_owned();
     let nom = &exp.nominal;
-    let (filt, pred) = seed000_sums(
-        &pl.a,
-        &b,
-        &pl.c,
-        &d,
-        nom.x0(),
-        &nom.blocks[1],
-        &nom.blocks[2],
-        pl.horizon,
-    );
+    let (filt, pred) = seed000_sums(&pl.a, &b, &pl.c, &d, nom.x0(), &nom.blocks[1], &nom.blocks[2], pl.horizon);
     let ours = exact::error(pl, &kalman(pl, nom, Pattern::Filtering), nom).total;
-    assert!(
-        (ours - filt).abs() <= 1e-10 * filt,
-        "filtering: {ours} vs seed 000 recursion {filt}"
-    );
+    assert!((ours - filt).abs() <= 1e-10 * filt, "filtering: {ours} vs seed 000 recursion {filt}");
     exp.pattern = Pattern::Prediction;
     let pl = &exp.plant;
     let ours = exact::error(pl, &kalman(pl, nom, Pattern::Prediction), nom).total;
-    assert!(
-        (ours - pred).abs() <= 1e-10 * pred,
-        "prediction: {ours} vs predictor recursion {pred}"
-    );
-    eprintln!(
-        "seed 000 Example 2 plant, N = {}: J filtering = {filt:.6}, prediction = {pred:.6}",
-        pl.horizon
-    );
+    assert!((ours - pred).abs() <= 1e-10 * pred, "prediction: {ours} vs predictor recursion {pred}");
+    eprintln!("seed 000 Example 2 plant, N = {}: J filtering = {filt:.6}, prediction = {pred:.6}", pl.horizon);
 }
 
 #[test]
 fn correctly_specified_beats_misspecified() {
     let exp = common::baseline(10);
     let filters = run::design_all(&exp).unwrap();
-    let j: Vec<f64> = filters
-        .iter()
-        .map(|f| exact::error(&exp.plant, &f.design.realization, &exp.nominal).total)
-        .collect();
+    let j: Vec<f64> =
+        filters.iter().map(|f| exact::error(&exp.plant, &f.design.realization, &exp.nominal).total).collect();
     assert_eq!(exp.filters[0].name, "kalman_nominal");
     assert_eq!(exp.filters[1].name, "kalman_wrong");
-    assert!(
-        j[0] < j[1],
-        "Kalman at the nominal covariance {} should beat the mis-specified one {}",
-        j[0],
-        j[1]
-    );
+    assert!(j[0] < j[1], "Kalman at the nominal covariance {} should beat the mis-specified one {}", j[0], j[1]);
     // Its guarantee is its exact error at the design covariance.
     let g = filters[0].design.guarantee.as_ref().unwrap();
     assert!((g.total - j[0]).abs() <= 1e-12 * j[0]);
-    eprintln!(
-        "exact J at nominal: kalman_nominal {:.6}, kalman_wrong {:.6}",
-        j[0], j[1]
-    );
+    eprintln!("exact J at nominal: kalman_nominal {:.6}, kalman_wrong {:.6}", j[0], j[1]);
 }
 
 #[test]
@@ -100,11 +63,7 @@ fn perturbing_any_gain_increases_the_exact_error() {
     use rand::SeedableRng;
     use rand_distr::{Distribution, StandardNormal};
     for pattern in [Pattern::Filtering, Pattern::Prediction] {
-        let exp = common::shapes(if pattern == Pattern::Filtering {
-            "filtering"
-        } else {
-            "prediction"
-        });
+        let exp = common::shapes(if pattern == Pattern::Filtering { "filtering" } else { "prediction" });
         let (pl, nom) = (&exp.plant, &exp.nominal);
         let best = kalman(pl, nom, pattern);
         let j0 = exact::error(pl, &best, nom).total;
@@ -128,10 +87,7 @@ fn perturbing_any_gain_increases_the_exact_error() {
                 r.steps[k].cf -= &dz * &pl.c;
             }
             let j = exact::error(pl, &r, nom).total;
-            assert!(
-                j > j0,
-                "{pattern:?}: a perturbed gain at step {k} gives {j} ≤ the Kalman error {j0}"
-            );
+            assert!(j > j0, "{pattern:?}: a perturbed gain at step {k} gives {j} ≤ the Kalman error {j0}");
         }
     }
 }

@@ -20,9 +20,18 @@ fn box_and_ball_without_psd_match_their_closed_forms() {
 fn loewner_interval_and_psd_constraint() {
     // max ⟨G, S⟩ over 0 ⪯ S ⪯ I is the sum of G's positive eigenvalues.
     let g = Mat::from_row_slice(2, 2, &[1.0, 2.0, 2.0, -1.0]);
-    let r = max_linear(&g, 2, &SymConstraints { lower: Some(Mat::zeros(2, 2)), upper: Some(Mat::identity(2, 2)), ..Default::default() }).unwrap();
+    let r = max_linear(
+        &g,
+        2,
+        &SymConstraints { lower: Some(Mat::zeros(2, 2)), upper: Some(Mat::identity(2, 2)), ..Default::default() },
+    )
+    .unwrap();
     assert!((r.value - 5f64.sqrt()).abs() < 1e-7, "{}", r.value);
     // An empty set is refused with clarabel's status.
-    let e = max_linear(&g, 2, &SymConstraints { lower: Some(Mat::identity(2, 2)), upper: Some(Mat::zeros(2, 2)), ..Default::default() });
+    let e = max_linear(
+        &g,
+        2,
+        &SymConstraints { lower: Some(Mat::identity(2, 2)), upper: Some(Mat::zeros(2, 2)), ..Default::default() },
+    );
     assert!(e.unwrap_err().contains("Infeasible"));
 }

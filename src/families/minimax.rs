@@ -1,0 +1,178 @@
+//! The minimax filter under covariance uncertainty (seed 000 §§3–4, SPEC §2): the Kalman filter
+//! built at the worst covariance K̂ = argmax_{K ∈ set} I(K), where I(K) = J(Kalman(K), K) is the
+//! concave dual functional of eq (14).
+//!
+//! K̂ comes from Theorem 1.2a when every set has a largest element, and otherwise from Algorithm 1
+//! (conditional gradient on the dual): at K(s) build the Kalman gains; the gradient λ(s) =
+//! ∂J(F(s), K)/∂K of eq (27) by one backward adjoint pass ([`exact::gradient`]); the linear oracle
+//! K̃ = argmax_{K ∈ set} ⟨λ(s), K⟩ (sign pattern, closed-form ball, or clarabel); the gap
+//! δ(s) = ⟨λ(s), K̃ − K(s)⟩, an upper bound on I(K̂) − I(K(s)), as the stopping rule; and an exact
+//! line search of the concave I on the segment K(s) → K̃, by bisection on its derivative
+//! ⟨∇I(K_τ), K̃ − K(s)⟩ (the envelope theorem: ∇I(K) is λ at the Kalman filter of K).
+//!
+//! Guarantee (eq (22), Theorem 1): for every covariance in the set and any distribution,
+//! E J ≤ I(K̂). It holds because K̂ is a saddle point, which the tests check: max over the set of
+//! J(F̂, ·) equals I(K̂). The reported bound is that maximum, computed exactly for the designed F̂,
+//! so it stays a valid bound when Algorithm 1 stops before the gap closes (then it exceeds the
+//! last I(K(s)) by at most the gap). The per-step `bound` is F̂'s error at K̂ step by step: only the
+//! sum is guaranteed.
+
+use serde::Deserialize;
+
+use super::kalman::kalman;
+use super::{Design, Guarantee, TraceRow};
+use crate::error::{Error, Result};
+use crate::exact;
+use crate::linalg::{Mat, frob_dot};
+use crate::noise::CovChoice;
+use crate::plant::{Covariances, Plant};
+use crate::solve::line::maximize_concave_01;
+use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
+use crate::uncertainty::CovSet;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    /// Stop when the gap δ ≤ tolerance · I(K(s)).
+    #[serde(default = "default_tolerance")]
+    tolerance: f64,
+    #[serde(default = "default_max_iterations")]
+    max_iterations: usize,
+    /// K(0), the starting point of Algorithm 1 (must lie in the set).
+    #[serde(default)]
+    start: CovChoiceFile,
+}
+
+fn default_tolerance() -> f64 {
+    1e-9
+}
+fn default_max_iterations() -> usize {
+    500
+}
+
+/// The solution of the dual problem (14).
+#[derive(Clone, Debug)]
+pub struct DualSolution {
+    pub k_hat: Covariances,
+    /// I(K̂).
+    pub value: f64,
+    pub trace: Vec<TraceRow>,
+    /// The last gap δ (0 when Theorem 1.2a applied).
+    pub gap: f64,
+    pub converged: bool,
+    /// Whether K̂ is the largest element of the set (Theorem 1.2a) rather than Algorithm 1's result.
+    pub largest_element: bool,
+}
+
+pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
+    let p: Params = family_params(filter)?;
+    let key = format!("filters.{}", filter.name);
+    if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
+        return Err(Error::invalid(format!("{key}.tolerance"), "must be a positive number"));
+    }
+    if p.max_iterations == 0 {
+        return Err(Error::invalid(format!("{key}.max_iterations"), "must be at least 1"));
+    }
+    if !exp.has_sets() {
+        return Err(Error::design(&filter.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
+    }
+    if matches!(p.start, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+        return Err(Error::invalid(format!("{key}.start"), "Algorithm 1 cannot start at another filter's covariance"));
+    }
+    let choice = CovChoice::resolve(&format!("{key}.start"), &p.start, &exp.plant, &exp.nominal, true, &exp.filters)?;
+    let start = choice.covariances(&format!("{key}.start"), exp, None)?;
+    let sol = dual_solve(&exp.plant, exp.pattern, &exp.sets, start, p.tolerance, p.max_iterations)
+        .map_err(|e| Error::design(&filter.name, e.to_string()))?;
+    let realization = kalman(&exp.plant, &sol.k_hat, exp.pattern);
+    let at_hat = exact::error(&exp.plant, &realization, &sol.k_hat);
+    // The certified guarantee is F̂'s exact worst case over the set, max_K J(F̂, K): it holds for any
+    // filter, and for the minimax one it equals I(K̂) up to the final gap δ ≥ I(K̂) − I(K(s)).
+    let certified = exact::worst_case(&exp.plant, &realization, &exp.nominal, &exp.sets)?
+        .map(|w| w.total)
+        .ok_or_else(|| Error::design(&filter.name, "no uncertainty set"))?;
+    let mut diagnostics = serde_json::Map::new();
+    diagnostics.insert("iterations".into(), sol.trace.len().into());
+    diagnostics.insert("dual_value".into(), sol.value.into());
+    diagnostics.insert("final_gap".into(), sol.gap.into());
+    diagnostics.insert("converged".into(), sol.converged.into());
+    diagnostics.insert(
+        "method".into(),
+        if sol.largest_element { "largest element (Theorem 1.2a)" } else { "Algorithm 1 (conditional gradient)" }
+            .into(),
+    );
+    Ok(Design {
+        realization,
+        guarantee: Some(Guarantee { kind: "minimax".into(), total: certified, per_step: at_hat.per_step }),
+        design_covariance: Some(sol.k_hat),
+        trace: sol.trace,
+        diagnostics,
+    })
+}
+
+/// I(K) = J(Kalman(K), K), the dual functional (eq (14)).
+pub fn dual_value(plant: &Plant, pattern: Pattern, k: &Covariances) -> f64 {
+    exact::error(plant, &kalman(plant, k, pattern), k).total
+}
+
+/// ∇I(K) = ∂J(F, K)/∂K at F = Kalman(K) (envelope theorem; eq (27)).
+pub fn dual_gradient(plant: &Plant, pattern: Pattern, k: &Covariances) -> Vec<Mat> {
+    exact::gradient(plant, &kalman(plant, k, pattern))
+}
+
+fn along(k: &Covariances, dir: &[Mat], tau: f64) -> Covariances {
+    Covariances { blocks: k.blocks.iter().zip(dir).map(|(a, d)| a + d * tau).collect() }
+}
+
+/// Solves the dual problem (14) over the sets (blocks without a set stay as in `start`).
+pub fn dual_solve(
+    plant: &Plant,
+    pattern: Pattern,
+    sets: &[Option<CovSet>],
+    start: Covariances,
+    tolerance: f64,
+    max_iterations: usize,
+) -> Result<DualSolution> {
+    let largest: Option<Vec<Option<Mat>>> =
+        sets.iter().map(|s| s.as_ref().map_or(Some(None), |s| s.largest().map(Some))).collect();
+    if let Some(largest) = largest {
+        let mut k_hat = start;
+        for (i, l) in largest.into_iter().enumerate() {
+            if let Some(l) = l {
+                k_hat.blocks[i] = l;
+            }
+        }
+        let value = dual_value(plant, pattern, &k_hat);
+        let trace = vec![TraceRow { iteration: 0, objective: value, gap: 0.0, step: 0.0 }];
+        return Ok(DualSolution { k_hat, value, trace, gap: 0.0, converged: true, largest_element: true });
+    }
+
+    let mut k = start;
+    let mut trace = Vec::new();
+    for s in 0..max_iterations {
+        let value = dual_value(plant, pattern, &k);
+        let grad = dual_gradient(plant, pattern, &k);
+        let mut dir: Vec<Mat> = k.blocks.iter().map(|b| Mat::zeros(b.nrows(), b.ncols())).collect();
+        let mut gap = 0.0;
+        for (i, set) in sets.iter().enumerate() {
+            if let Some(set) = set {
+                let (gain, corner) = set.linear_gain(&grad[i], &k.blocks[i])?;
+                gap += gain;
+                dir[i] = corner - &k.blocks[i];
+            }
+        }
+        if gap <= tolerance * value.abs().max(f64::MIN_POSITIVE) {
+            trace.push(TraceRow { iteration: s, objective: value, gap, step: 0.0 });
+            return Ok(DualSolution { k_hat: k, value, trace, gap, converged: true, largest_element: false });
+        }
+        let dphi = |tau: f64| {
+            let g = dual_gradient(plant, pattern, &along(&k, &dir, tau));
+            g.iter().zip(&dir).map(|(g, d)| frob_dot(g, d)).sum::<f64>()
+        };
+        let tau = maximize_concave_01(dphi, 1e-10);
+        trace.push(TraceRow { iteration: s, objective: value, gap, step: tau });
+        k = along(&k, &dir, tau);
+    }
+    let value = dual_value(plant, pattern, &k);
+    let gap = trace.last().map_or(f64::INFINITY, |r| r.gap);
+    Ok(DualSolution { k_hat: k, value, trace, gap, converged: false, largest_element: false })
+}
