@@ -103,3 +103,48 @@ fn unwritable_output_folder() {
     check_failure(&o, &[blocker.to_str().unwrap()]);
     assert!(!Path::new(&out).exists());
 }
+
+fn minimax_box_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/minimax_box.toml")).unwrap()
+}
+
+#[test]
+fn bad_uncertainty_sets() {
+    let measurement_set = "[sets.measurement]\nkind = \"box\"\nhalf_width = 0.25\npsd = true\n";
+    assert!(minimax_box_text().contains(measurement_set));
+    // Empty: the lower end is above the upper end.
+    let t = minimax_box_text().replace(
+        measurement_set,
+        "[sets.measurement]\nkind = \"loewner\"\nlower = [[2, 0, 0], [0, 2, 0], [0, 0, 2]]\nupper = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n",
+    );
+    fails_cleanly(&t, &["sets.measurement", "empty"]);
+    // The nominal covariance outside its own set.
+    let t = minimax_box_text().replace(
+        measurement_set,
+        "[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\ncenter = [[2, 0, 0], [0, 2, 0], [0, 0, 2]]\n",
+    );
+    fails_cleanly(&t, &["sets.measurement", "outside its own box"]);
+    let t = minimax_box_text().replace(
+        measurement_set,
+        "[sets.measurement]\nkind = \"ball\"\nradius = 0.1\ncenter = [[2, 0, 0], [0, 2, 0], [0, 0, 2]]\n",
+    );
+    fails_cleanly(&t, &["sets.measurement", "outside its own ball"]);
+    // Wrong size.
+    let t = minimax_box_text()
+        .replace(measurement_set, "[sets.measurement]\nkind = \"box\"\nhalf_width = [[0.1, 0.1], [0.1, 0.1]]\n");
+    fails_cleanly(&t, &["sets.measurement.half_width", "3×3"]);
+    // A set on a block that does not exist.
+    let t = minimax_box_text().replace("[sets.measurement]", "[sets.measurment]");
+    fails_cleanly(&t, &["sets.measurment", "unknown covariance block"]);
+}
+
+#[test]
+fn minimax_without_a_set() {
+    let t = baseline_text()
+        .replace("[sets.process]\nkind = \"ball\"\nradius = 0.1\n", "")
+        .replace("[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\n", "")
+        .replace("[[scenarios]]\nname = \"box_vertex\"\ncovariance = { kind = \"vertex\", seed = 1 }\nshape = { kind = \"gaussian\" }\n", "")
+        .replace("[[scenarios]]\nname = \"worst_for_kalman_nominal\"\ncovariance = { kind = \"worst_for\", filter = \"kalman_nominal\" }\nshape = { kind = \"gaussian\" }\n", "")
+        + "\n[[filters]]\nname = \"minimax\"\nfamily = \"minimax\"\n";
+    fails_cleanly(&t, &["minimax", "needs an uncertainty set"]);
+}

@@ -91,7 +91,8 @@ fn vertices_and_interior_points_lie_where_they_should() {
     use rand::SeedableRng;
     let center = nalgebra::DMatrix::from_row_slice(2, 2, &[1.0, 0.2, 0.2, 0.8]);
     let hw = nalgebra::DMatrix::from_row_slice(2, 2, &[0.1, 0.05, 0.05, 0.2]);
-    let bx = CovSet::new("t", SetShape::Box { center: center.clone(), half_width: hw.clone() }, false, &center).unwrap();
+    let bx =
+        CovSet::new("t", SetShape::Box { center: center.clone(), half_width: hw.clone() }, false, &center).unwrap();
     let ball = CovSet::new("t", SetShape::Ball { center: center.clone(), radius: 0.3 }, false, &center).unwrap();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     for _ in 0..100 {
@@ -115,16 +116,21 @@ fn vertices_and_interior_points_lie_where_they_should() {
     // between; with the PSD intersection every draw is PSD.
     let lower = nalgebra::DMatrix::from_row_slice(2, 2, &[0.5, 0.1, 0.1, 0.4]);
     let upper = nalgebra::DMatrix::from_row_slice(2, 2, &[1.5, 0.3, 0.3, 1.2]);
-    let lw = CovSet::new("t", SetShape::Loewner { lower: lower.clone(), upper: upper.clone() }, false, &center).unwrap();
+    let lw =
+        CovSet::new("t", SetShape::Loewner { lower: lower.clone(), upper: upper.clone() }, false, &center).unwrap();
     let min_eig = |m: &nalgebra::DMatrix<f64>| filterbench::linalg::min_eigenvalue(m);
     for _ in 0..100 {
         for s in [lw.random_vertex(&mut rng).unwrap(), lw.random_interior(&mut rng).unwrap()] {
             assert!(min_eig(&(&s - &lower)) >= -1e-12 && min_eig(&(&upper - &s)) >= -1e-12, "inside the interval");
         }
     }
-    let psd_box =
-        CovSet::new("t", SetShape::Box { center: center.clone(), half_width: nalgebra::DMatrix::from_element(2, 2, 0.7) }, true, &center)
-            .unwrap();
+    let psd_box = CovSet::new(
+        "t",
+        SetShape::Box { center: center.clone(), half_width: nalgebra::DMatrix::from_element(2, 2, 0.7) },
+        true,
+        &center,
+    )
+    .unwrap();
     for _ in 0..100 {
         assert!(min_eig(&psd_box.random_vertex(&mut rng).unwrap()) >= -1e-12);
         assert!(min_eig(&psd_box.random_interior(&mut rng).unwrap()) >= -1e-12);
@@ -150,8 +156,11 @@ fn worst_case_for_a_filter_beats_every_sampled_point_of_the_set() {
             let mut cov: Covariances = exp.nominal.clone();
             for (i, s) in exp.sets.iter().enumerate() {
                 if let Some(s) = s {
-                    cov.blocks[i] =
-                        if rng.next_u32() & 1 == 0 { s.random_vertex(&mut rng).unwrap() } else { s.random_interior(&mut rng).unwrap() };
+                    cov.blocks[i] = if rng.next_u32() & 1 == 0 {
+                        s.random_vertex(&mut rng).unwrap()
+                    } else {
+                        s.random_interior(&mut rng).unwrap()
+                    };
                 }
             }
             let j = exact::error(&exp.plant, real, &cov).total;

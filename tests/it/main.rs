@@ -9,4 +9,5 @@ mod end_to_end;
 mod exact_vs_mc;
 mod generators;
 mod kalman;
+mod minimax;
 mod sdp;
