@@ -14,14 +14,15 @@ use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
 use crate::uncertainty::CovSet;
 
-struct Augmented {
-    f: Mat,
-    e: Mat,
-    h: Mat,
-    g: Mat,
+/// The augmented matrices F, E, H, G of step k (module docs).
+pub(crate) struct Augmented {
+    pub f: Mat,
+    pub e: Mat,
+    pub h: Mat,
+    pub g: Mat,
 }
 
-fn augmented(plant: &Plant, real: &Realization, k: usize) -> Augmented {
+pub(crate) fn augmented(plant: &Plant, real: &Realization, k: usize) -> Augmented {
     let (n, ns) = (plant.nx(), real.ns());
     let gk = &real.steps[k];
     let (c, d) = (plant.c_at(k), plant.d_at(k));
@@ -49,6 +50,23 @@ pub struct ExactError {
 
 /// The exact error of `real` on `plant` when x0 and w have the covariances `cov` (any distribution).
 pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError {
+    error_with_mean(plant, real, cov, None)
+}
+
+/// Σ_k |E e[k]|² over the steps that count: the deterministic part of J, from x0's mean, the known
+/// input and a deterministic sequence `w_mean` (column k is the mean of w[k]).
+pub fn mean_error(plant: &Plant, real: &Realization, w_mean: &Mat) -> f64 {
+    let zero = Covariances {
+        blocks: std::iter::once(plant.nx())
+            .chain(plant.noise_blocks.iter().map(|b| b.1))
+            .map(|d| Mat::zeros(d, d))
+            .collect(),
+    };
+    error_with_mean(plant, real, &zero, Some(w_mean)).total
+}
+
+/// As [`error`], with w[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
+pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> ExactError {
     let (n, ns) = (plant.nx(), real.ns());
     let w = cov.w();
     let mut mean = Vector::zeros(n + ns);
@@ -59,7 +77,10 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
     let mut per_step = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         let aug = augmented(plant, real, k);
-        let em = &aug.h * &mean;
+        let mut em = &aug.h * &mean;
+        if let Some(wm) = w_mean {
+            em += &aug.g * wm.column(k);
+        }
         let mse = em.norm_squared()
             + (&aug.h * &sigma * aug.h.transpose()).trace()
             + (&aug.g * &w * aug.g.transpose()).trace();
@@ -67,6 +88,9 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
         if k < plant.horizon {
             sigma = symmetrize(&(&aug.f * &sigma * aug.f.transpose() + &aug.e * &w * aug.e.transpose()));
             let mut next = &aug.f * &mean;
+            if let Some(wm) = w_mean {
+                next += &aug.e * wm.column(k);
+            }
             if let Some(r) = plant.r_at(k) {
                 next.rows_mut(0, n).axpy(1.0, r, 1.0);
                 let gr = &real.steps[k].gf * r;
@@ -117,6 +141,8 @@ pub struct WorstCase {
     /// Whether every block of the maximizer is PSD (a box corner need not be; then the value is the
     /// maximum over the box as the seed defines it, not over covariances).
     pub psd: bool,
+    /// The worst deterministic disturbance sequence (column k adds to w[k]), when there is one.
+    pub disturbance: Option<Mat>,
 }
 
 /// max over the sets of J(K) = J(center) + Σ_i max_{K_i ∈ set_i} ⟨∂J/∂K_i, K_i − center_i⟩ (J is
@@ -144,5 +170,5 @@ pub fn worst_case(
         .blocks
         .iter()
         .all(|m| crate::linalg::min_eigenvalue(m) >= -crate::linalg::PSD_TOL * m.amax().max(1e-300));
-    Ok(Some(WorstCase { total, argmax, psd }))
+    Ok(Some(WorstCase { total, argmax, psd, disturbance: None }))
 }

@@ -3,6 +3,7 @@
 //! engine ([`montecarlo`]) are generic over it. See the README for the picture.
 
 pub mod bench;
+pub mod disturbance;
 pub mod error;
 pub mod exact;
 pub mod families;

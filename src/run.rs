@@ -6,12 +6,15 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
+use crate::disturbance::{self, DisturbanceChoice};
 use crate::error::{Error, Result};
 use crate::exact::{self, ExactError, WorstCase};
 use crate::families::{Design, registry};
+use crate::linalg::Mat;
 use crate::montecarlo::{self, McStats, Trajectory};
 use crate::noise::NoiseSampler;
 use crate::plant::Covariances;
+use crate::realization::Realization;
 use crate::spec::Experiment;
 
 /// A designed filter with its cost and its worst case over the experiment's uncertainty sets.
@@ -26,7 +29,11 @@ pub struct ScenarioOutcome {
     pub name: String,
     pub covariance_label: String,
     pub shape_label: String,
+    /// The covariances noise was drawn with (disturbance blocks zero).
     pub covariances: Covariances,
+    pub disturbance_label: String,
+    /// The deterministic disturbance (column k added to w[k]), if any.
+    pub disturbance: Option<Mat>,
     pub exact: Vec<ExactError>,
     pub mc: McStats,
     pub mc_seconds: f64,
@@ -49,11 +56,28 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let t = Instant::now();
             let design = registry::design(exp, f)?;
             let seconds = t.elapsed().as_secs_f64();
-            let worst = exact::worst_case(&exp.plant, &design.realization, &exp.nominal, &exp.sets)
+            let worst = worst_case(exp, &design.realization)
                 .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
             Ok(DesignedFilter { design, seconds, worst })
         })
         .collect()
+}
+
+/// A filter's exact worst case over the experiment's uncertainty: covariances over their sets
+/// (disturbance blocks carry no covariance) and deterministic disturbances over their energy bounds
+/// ([`disturbance::worst`]), evaluated exactly at the joint maximizer. None if the experiment has
+/// neither sets nor disturbances.
+pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCase>> {
+    let center = exp.sampling(&exp.nominal);
+    let sets = exact::worst_case(&exp.plant, real, &center, &exp.sets)?;
+    let dist = disturbance::worst(&exp.plant, real, &exp.disturbances)?;
+    if sets.is_none() && dist.is_none() {
+        return Ok(None);
+    }
+    let mut wc = sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None });
+    wc.disturbance = dist.map(|(_, wm)| wm);
+    wc.total = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref()).total;
+    Ok(Some(wc))
 }
 
 /// Resolves the concrete covariance of every scenario (a worst case needs the designed filter).
@@ -87,19 +111,32 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let mut scenarios = Vec::with_capacity(exp.scenarios.len());
     for (i, (s, cov)) in exp.scenarios.iter().zip(covs).enumerate() {
         bar.set_message(s.name.clone());
-        let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape);
+        let cov = exp.sampling(&cov);
+        let (disturbance_label, w_mean) = match &s.disturbance {
+            DisturbanceChoice::None => ("none".to_string(), None),
+            DisturbanceChoice::Random { seed } => {
+                (format!("random(seed={seed})"), Some(disturbance::random(&exp.plant, &exp.disturbances, *seed)))
+            }
+            DisturbanceChoice::WorstFor { filter } => (
+                format!("worst_for({})", exp.filters[*filter].name),
+                filters[*filter].worst.as_ref().and_then(|w| w.disturbance.clone()),
+            ),
+        };
+        let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape).with_mean(w_mean.clone());
         let sc =
             montecarlo::Scenario { plant: &exp.plant, filters: &reals, sampler: &sampler, seed: exp.seed, index: i };
         let t = Instant::now();
         let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
         let mc_seconds = t.elapsed().as_secs_f64();
         let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
-        let exact = reals.iter().map(|r| exact::error(&exp.plant, r, &cov)).collect();
+        let exact = reals.iter().map(|r| exact::error_with_mean(&exp.plant, r, &cov, w_mean.as_ref())).collect();
         scenarios.push(ScenarioOutcome {
             name: s.name.clone(),
             covariance_label: s.covariance.label(exp),
             shape_label: s.shape.label(),
             covariances: cov,
+            disturbance_label,
+            disturbance: w_mean,
             exact,
             mc,
             mc_seconds,

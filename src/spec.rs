@@ -6,6 +6,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
+use crate::disturbance::{Disturbance, DisturbanceChoice};
 use crate::error::{Error, Result};
 use crate::linalg::{Mat, Vector, check_psd, from_rows};
 use crate::noise::{CovChoice, Shape};
@@ -35,6 +36,8 @@ struct ExperimentFile {
     nominal: BTreeMap<String, Rows>,
     #[serde(default)]
     sets: BTreeMap<String, SetFile>,
+    #[serde(default)]
+    disturbances: BTreeMap<String, DisturbanceFile>,
     scenarios: Vec<ScenarioFile>,
     filters: Vec<FilterFile>,
 }
@@ -115,6 +118,29 @@ struct ScenarioFile {
     covariance: CovChoiceFile,
     #[serde(default)]
     shape: Shape,
+    #[serde(default)]
+    disturbance: DisturbanceChoiceFile,
+}
+
+/// An energy-bounded deterministic disturbance block (seed 000 eq (36)).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DisturbanceFile {
+    weight: Rows,
+    energy: f64,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum DisturbanceChoiceFile {
+    #[default]
+    None,
+    Random {
+        seed: u64,
+    },
+    WorstFor {
+        filter: String,
+    },
 }
 
 /// A covariance choice as written in a file (`{ kind = …, … }`); see [`CovChoice`].
@@ -203,6 +229,7 @@ pub struct Scenario {
     pub name: String,
     pub covariance: CovChoice,
     pub shape: Shape,
+    pub disturbance: DisturbanceChoice,
 }
 
 /// A filter entry: its name, its family, and the family's own parameters (parsed by the family).
@@ -226,6 +253,8 @@ pub struct Experiment {
     pub nominal: Covariances,
     /// The uncertainty set of each covariance block (index as in `Covariances::blocks`), if any.
     pub sets: Vec<Option<CovSet>>,
+    /// The energy bound of each block that is a deterministic disturbance (index as in `sets`).
+    pub disturbances: Vec<Option<Disturbance>>,
     pub scenarios: Vec<Scenario>,
     pub filters: Vec<FilterSpec>,
     /// The file text, kept for the manifest.
@@ -235,6 +264,20 @@ pub struct Experiment {
 impl Experiment {
     pub fn has_sets(&self) -> bool {
         self.sets.iter().any(Option::is_some)
+    }
+    /// The covariances noise is drawn with: deterministic disturbance blocks have none (their
+    /// entry in `cov` is the design surrogate energy · W⁻¹).
+    pub fn sampling(&self, cov: &Covariances) -> Covariances {
+        let mut out = cov.clone();
+        for (b, d) in out.blocks.iter_mut().zip(&self.disturbances) {
+            if d.is_some() {
+                b.fill(0.0);
+            }
+        }
+        out
+    }
+    pub fn has_disturbances(&self) -> bool {
+        self.disturbances.iter().any(Option::is_some)
     }
     pub fn filter_index(&self, name: &str) -> Option<usize> {
         self.filters.iter().position(|f| f.name == name)
@@ -398,9 +441,44 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             ));
         }
     }
+    for key in f.disturbances.keys() {
+        if !seen.contains(key.as_str()) {
+            return Err(Error::invalid(
+                format!("disturbances.{key}"),
+                "not a noise block: expected one of plant.noise_blocks",
+            ));
+        }
+        if f.nominal.contains_key(key) {
+            return Err(Error::invalid(
+                format!("nominal.{key}"),
+                "a disturbance block has no covariance (it is deterministic, bounded in energy by [disturbances]): remove it",
+            ));
+        }
+    }
     let mut blocks = Vec::new();
     let mut dims = Vec::new();
+    let mut disturbances = vec![None];
     for bn in std::iter::once("x0").chain(p.noise_blocks.iter().map(String::as_str)) {
+        if let Some(df) = f.disturbances.get(bn) {
+            let key = format!("disturbances.{bn}");
+            let w = from_rows(&format!("{key}.weight"), &df.weight, None)?;
+            check_psd(&format!("{key}.weight"), &w)?;
+            if w.is_empty() || nalgebra::Cholesky::new(w.clone()).is_none() || crate::linalg::min_eigenvalue(&w) <= 0.0
+            {
+                return Err(Error::invalid(format!("{key}.weight"), "the weight must be positive definite"));
+            }
+            if !(df.energy >= 0.0 && df.energy.is_finite()) {
+                return Err(Error::invalid(format!("{key}.energy"), "the energy bound must be finite and ≥ 0"));
+            }
+            let d = Disturbance { weight: w, energy: df.energy };
+            dims.push((bn.to_string(), d.weight.nrows()));
+            blocks.push(d.surrogate_covariance());
+            disturbances.push(Some(d));
+            continue;
+        }
+        if bn != "x0" {
+            disturbances.push(None);
+        }
         let key = format!("nominal.{bn}");
         let rows = f.nominal.get(bn).ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
         let m = from_rows(&key, rows, None)?;
@@ -428,6 +506,9 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     let mut sets: Vec<Option<CovSet>> = vec![None; names.len()];
     for (bn, s) in &f.sets {
         let key = format!("sets.{bn}");
+        if f.disturbances.contains_key(bn) {
+            return Err(Error::invalid(key, "a disturbance block has an energy bound, not a covariance set"));
+        }
         let i = names
             .iter()
             .position(|n| n == bn)
@@ -486,7 +567,19 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         let key = format!("scenarios.{}.covariance", s.name);
         let covariance = CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
         s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
-        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape });
+        let dkey = format!("scenarios.{}.disturbance", s.name);
+        let has_dist = disturbances.iter().any(Option::is_some);
+        let disturbance = match s.disturbance {
+            DisturbanceChoiceFile::None => DisturbanceChoice::None,
+            _ if !has_dist => return Err(Error::invalid(dkey, "the plant has no [disturbances] block")),
+            DisturbanceChoiceFile::Random { seed } => DisturbanceChoice::Random { seed },
+            DisturbanceChoiceFile::WorstFor { filter } => DisturbanceChoice::WorstFor {
+                filter: filters.iter().position(|x| x.name == filter).ok_or_else(|| {
+                    Error::invalid(format!("{dkey}.filter"), format!("no filter named `{filter}` in this experiment"))
+                })?,
+            },
+        };
+        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance });
     }
     if f.sample_trajectories > f.trials {
         return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));
@@ -502,6 +595,7 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         plant,
         nominal,
         sets,
+        disturbances,
         scenarios,
         filters,
         source: text.to_string(),

@@ -32,6 +32,8 @@ pub struct NoiseSampler {
     lw: Mat,
     draw: StandardDraw,
     steps: usize,
+    /// Deterministic part of w[k] (column k), if any: energy-bounded disturbances.
+    w_mean: Option<Mat>,
 }
 
 /// One trial's draws: the initial state and w[k] as column k of `w`.
@@ -51,7 +53,14 @@ impl NoiseSampler {
             lw: psd_factor(&cov.w()),
             draw: shape.sampler(),
             steps: plant.steps(),
+            w_mean: None,
         }
+    }
+
+    /// Adds a deterministic sequence to w (column k is added to w[k]).
+    pub fn with_mean(mut self, w_mean: Option<Mat>) -> Self {
+        self.w_mean = w_mean;
+        self
     }
 
     pub fn workspace(&self) -> TrialDraw {
@@ -75,6 +84,9 @@ impl NoiseSampler {
                 *v = self.draw.draw(rng);
             }
             out.w.column_mut(k).gemv(1.0, &self.lw, &out.u, 0.0);
+        }
+        if let Some(m) = &self.w_mean {
+            out.w += m;
         }
     }
 

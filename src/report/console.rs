@@ -21,7 +21,11 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
     );
     let w = exp.filters.iter().map(|f| f.name.len()).max().unwrap_or(6).max(6);
     for sc in &out.scenarios {
-        s += &format!("\n{} — covariance {}, shape {}\n", sc.name, sc.covariance_label, sc.shape_label);
+        s += &format!("\n{} — covariance {}, shape {}", sc.name, sc.covariance_label, sc.shape_label);
+        if sc.disturbance.is_some() {
+            s += &format!(", disturbance {}", sc.disturbance_label);
+        }
+        s += "\n";
         s += &format!(
             "  {:w$}  {:>22}  {:>10}  {:>6}  {:>10}  {:>10}\n",
             "filter", "empirical ± 95%", "exact", "z", "guaranteed", "worst case"

@@ -46,6 +46,7 @@ pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &P
             let blocks = cov_json(&s.covariances);
             serde_json::json!({
                 "name": s.name, "covariance": s.covariance_label, "shape": s.shape_label,
+                "disturbance": s.disturbance_label,
                 "covariances": blocks, "mc_seconds": s.mc_seconds,
             })
         })

@@ -40,6 +40,7 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.scenario.push(sc.name.clone());
             c.covariance.push(sc.covariance_label.clone());
             c.shape.push(sc.shape_label.clone());
+            c.disturbance.push(sc.disturbance_label.clone());
             c.filter.push(spec.name.clone());
             c.family.push(spec.family.clone());
             c.n_trials.push(st.n);
@@ -63,6 +64,7 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             col("scenario", c.scenario),
             col("covariance", c.covariance),
             col("shape", c.shape),
+            col("disturbance", c.disturbance),
             col("filter", c.filter),
             col("family", c.family),
             col("n_trials", c.n_trials),
@@ -90,6 +92,7 @@ struct SummaryCols {
     scenario: Vec<String>,
     covariance: Vec<String>,
     shape: Vec<String>,
+    disturbance: Vec<String>,
     filter: Vec<String>,
     family: Vec<String>,
     n_trials: Vec<u64>,

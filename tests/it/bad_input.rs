@@ -148,3 +148,25 @@ fn minimax_without_a_set() {
         + "\n[[filters]]\nname = \"minimax\"\nfamily = \"minimax\"\n";
     fails_cleanly(&t, &["minimax", "needs an uncertainty set"]);
 }
+
+#[test]
+fn bad_disturbances() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/minimax_energy.toml")).unwrap();
+    let t = text.replace(
+        "[disturbances.u]\nweight = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+        "[disturbances.u]\nweight = [[1, 0, 0], [0, 0, 0], [0, 0, 1]]",
+    );
+    fails_cleanly(&t, &["disturbances.u.weight", "positive definite"]);
+    let t = text.replace("energy = 0.5\n\n[disturbances.v]", "energy = -1\n\n[disturbances.v]");
+    fails_cleanly(&t, &["disturbances.u.energy"]);
+    let t = text.replace("[nominal]\n", "[nominal]\nu = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n");
+    fails_cleanly(&t, &["nominal.u", "disturbance block has no covariance"]);
+    let t = text.replace("[disturbances.v]", "[disturbances.w]");
+    fails_cleanly(&t, &["disturbances.w", "not a noise block"]);
+    let t = baseline_text().replace(
+        "name = \"nominal_laplace\"\n",
+        "name = \"nominal_laplace\"\ndisturbance = { kind = \"random\", seed = 1 }\n",
+    );
+    fails_cleanly(&t, &["scenarios.nominal_laplace.disturbance", "no [disturbances]"]);
+}

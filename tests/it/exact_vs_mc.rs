@@ -11,7 +11,7 @@ use filterbench::run;
 
 use crate::common;
 
-fn check(exp: &filterbench::spec::Experiment) {
+pub(crate) fn check(exp: &filterbench::spec::Experiment) {
     let out = run::run(exp, false).expect("runs");
     let mut worst_total: f64 = 0.0;
     let mut worst_step: f64 = 0.0;

@@ -5,6 +5,7 @@
 mod bad_input;
 mod common;
 mod determinism;
+mod disturbance;
 mod end_to_end;
 mod exact_vs_mc;
 mod generators;

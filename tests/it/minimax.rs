@@ -113,9 +113,9 @@ fn agrees_with_projected_gradient_ascent() {
     };
     for _ in 0..4000 {
         let g = dual_gradient(pl, pat, &k);
-        for i in 1..k.blocks.len() {
-            let step = &k.blocks[i] + &g[i] * 0.05;
-            k.blocks[i] = clip(i, &step);
+        // Block 0 (x0) has no set; the noise blocks step along the gradient and are clipped.
+        for (i, (b, gi)) in k.blocks.iter_mut().zip(&g).enumerate().skip(1) {
+            *b = clip(i, &(&*b + gi * 0.05));
         }
     }
     for b in &k.blocks {
