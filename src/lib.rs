@@ -7,6 +7,7 @@ pub mod disturbance;
 pub mod error;
 pub mod exact;
 pub mod families;
+pub mod hinf;
 pub mod linalg;
 pub mod montecarlo;
 pub mod noise;

@@ -24,6 +24,9 @@ pub struct FilterStats {
     pub total: Welford,
     /// Squared error |z[k] − ẑ[k]|² at each step.
     pub steps: Vec<Welford>,
+    /// For a filter with a per-trial bound: the largest ratio seen and the trials at or above it.
+    pub max_ratio: f64,
+    pub violations: u64,
 }
 
 /// Everything one scenario's Monte Carlo run accumulates.
@@ -38,13 +41,23 @@ pub struct McStats {
 impl McStats {
     fn new(nf: usize, steps: usize) -> Self {
         McStats {
-            filters: vec![FilterStats { total: Welford::default(), steps: vec![Welford::default(); steps] }; nf],
+            filters: vec![
+                FilterStats {
+                    total: Welford::default(),
+                    steps: vec![Welford::default(); steps],
+                    max_ratio: 0.0,
+                    violations: 0
+                };
+                nf
+            ],
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
         }
     }
     fn merge(&mut self, o: &McStats) {
         for (a, b) in self.filters.iter_mut().zip(&o.filters) {
             a.total.merge(&b.total);
+            a.max_ratio = a.max_ratio.max(b.max_ratio);
+            a.violations += b.violations;
             for (x, y) in a.steps.iter_mut().zip(&b.steps) {
                 x.merge(y);
             }
@@ -66,6 +79,16 @@ pub struct Scenario<'a> {
     pub sampler: &'a NoiseSampler,
     pub seed: u64,
     pub index: usize,
+    /// Per-trial ratio checks (seed 002), if any filter has one.
+    pub ratios: Option<RatioCheck<'a>>,
+}
+
+/// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w[k], k < N) and, per filter, its
+/// per-trial bound, if it has one.
+pub struct RatioCheck<'a> {
+    pub x0_weight: Mat,
+    pub w_weight: Mat,
+    pub bounds: Vec<Option<&'a crate::families::PerTrialBound>>,
 }
 
 /// Preallocated per-thread buffers: one trial allocates nothing.
@@ -78,6 +101,8 @@ pub struct Workspace {
     zhat: Vector,
     s: Vec<Vector>,
     s_next: Vec<Vector>,
+    e0: Vector,
+    wtmp: Vector,
 }
 
 impl Workspace {
@@ -92,6 +117,8 @@ impl Workspace {
             zhat: Vector::zeros(p.nz()),
             s: sc.filters.iter().map(|r| r.s0.clone()).collect(),
             s_next: sc.filters.iter().map(|r| r.s0.clone()).collect(),
+            e0: Vector::zeros(p.nx()),
+            wtmp: Vector::zeros(p.nw()),
         }
     }
 }
@@ -133,6 +160,32 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
     }
 }
 
+/// Seed 002's per-trial ratio for every filter with a bound (the workspace still holds the trial's
+/// draws and final states).
+fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, sums: &[f64], stats: &mut [FilterStats]) {
+    ws.e0.copy_from(&ws.draw.x0);
+    ws.e0 -= &plant.x0_mean;
+    ws.x_next.gemv(1.0, &rc.x0_weight, &ws.e0, 0.0);
+    let mut energy = ws.e0.dot(&ws.x_next);
+    for k in 0..plant.horizon {
+        let wk = ws.draw.w.column(k);
+        ws.wtmp.gemv(1.0, &rc.w_weight, &wk, 0.0);
+        energy += wk.dot(&ws.wtmp);
+    }
+    for (f, b) in rc.bounds.iter().enumerate() {
+        if let Some(b) = b {
+            ws.e0.copy_from(&ws.x);
+            ws.e0 -= &ws.s[f];
+            ws.x_next.gemv(1.0, &b.terminal_weight, &ws.e0, 0.0);
+            let ratio = (sums[f] + ws.e0.dot(&ws.x_next)) / energy;
+            stats[f].max_ratio = stats[f].max_ratio.max(ratio);
+            if ratio >= b.bound {
+                stats[f].violations += 1;
+            }
+        }
+    }
+}
+
 fn squared_error(z: &Vector, zhat: &Vector) -> f64 {
     z.iter().zip(zhat.iter()).map(|(a, b)| (a - b) * (a - b)).sum()
 }
@@ -143,8 +196,10 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
     let pairs = McStats::pairs(nf);
     let plant = sc.plant;
     let mut totals = vec![0.0; nf];
+    let mut before_last = vec![0.0; nf];
     for t in first..last {
         totals.fill(0.0);
+        before_last.fill(0.0);
         let per_filter = &mut st.filters;
         run_trial(sc, ws, t, |k, f, z, zhat| {
             let e2 = squared_error(z, zhat);
@@ -152,7 +207,13 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
             if plant.counts(k) {
                 totals[f] += e2;
             }
+            if k < plant.horizon {
+                before_last[f] += e2;
+            }
         });
+        if let Some(rc) = &sc.ratios {
+            check_ratios(rc, ws, plant, &before_last, &mut st.filters);
+        }
         for (acc, v) in st.filters.iter_mut().zip(&totals) {
             acc.total.push(*v);
         }

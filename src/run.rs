@@ -80,6 +80,17 @@ pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCa
     Ok(Some(wc))
 }
 
+/// The per-trial ratio checks of the filters that promise one (seed 002), weighted by the nominal
+/// covariances of x0 and w (pseudo-inverses, so a singular block simply carries no weight).
+pub fn ratio_check<'a>(exp: &Experiment, filters: &'a [DesignedFilter]) -> Option<montecarlo::RatioCheck<'a>> {
+    let bounds: Vec<_> = filters.iter().map(|f| f.design.per_trial.as_ref()).collect();
+    bounds.iter().any(Option::is_some).then(|| montecarlo::RatioCheck {
+        x0_weight: crate::linalg::psd_pinv(exp.nominal.x0()),
+        w_weight: crate::linalg::psd_pinv(&exp.nominal.w()),
+        bounds,
+    })
+}
+
 /// Resolves the concrete covariance of every scenario (a worst case needs the designed filter).
 pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Result<Vec<Covariances>> {
     exp.scenarios
@@ -123,8 +134,14 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             ),
         };
         let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape).with_mean(w_mean.clone());
-        let sc =
-            montecarlo::Scenario { plant: &exp.plant, filters: &reals, sampler: &sampler, seed: exp.seed, index: i };
+        let sc = montecarlo::Scenario {
+            plant: &exp.plant,
+            filters: &reals,
+            sampler: &sampler,
+            seed: exp.seed,
+            index: i,
+            ratios: ratio_check(exp, &filters),
+        };
         let t = Instant::now();
         let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
         let mc_seconds = t.elapsed().as_secs_f64();

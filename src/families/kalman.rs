@@ -51,6 +51,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         design_covariance: Some(cov),
         trace: Vec::new(),
         diagnostics: Default::default(),
+        per_trial: None,
     })
 }
 

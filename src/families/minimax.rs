@@ -106,6 +106,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         design_covariance: Some(sol.k_hat),
         trace: sol.trace,
         diagnostics,
+        per_trial: None,
     })
 }
 

@@ -2,6 +2,7 @@
 //! a [`Realization`] plus what its theory guarantees. Adding a family is one file here and one line
 //! in [`registry`].
 
+pub mod hinf_lambda;
 pub mod kalman;
 pub mod minimax;
 pub mod registry;
@@ -40,4 +41,15 @@ pub struct Design {
     pub trace: Vec<TraceRow>,
     /// Anything else worth keeping in the manifest (solver figures, which theorem applied, …).
     pub diagnostics: serde_json::Map<String, serde_json::Value>,
+    /// A guarantee that holds for every single trial (seed 002's H∞-λ), checked on each one.
+    pub per_trial: Option<PerTrialBound>,
+}
+
+/// Seed 002's per-realization promise: for every trial,
+/// ratio = (Σ_{k<N} |e_z[k]|² + e[N]ᵀ S e[N]) / (|x0 − E x0|²_R + Σ_{k<N} |w[k]|²_G) < bound,
+/// with R, G the nominal covariances of x0 and w and e = x − s the state error.
+#[derive(Clone, Debug)]
+pub struct PerTrialBound {
+    pub bound: f64,
+    pub terminal_weight: crate::linalg::Mat,
 }

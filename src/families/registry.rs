@@ -1,11 +1,11 @@
 //! Family name → design procedure.
 
-use super::{Design, kalman, minimax};
+use super::{Design, hinf_lambda, kalman, minimax};
 use crate::error::Result;
 use crate::spec::{Experiment, FilterSpec};
 
 /// Every family an experiment file may name.
-pub const FAMILIES: &[&str] = &["kalman", "minimax"];
+pub const FAMILIES: &[&str] = &["kalman", "minimax", "hinf"];
 
 pub fn is_family(name: &str) -> bool {
     FAMILIES.contains(&name)
@@ -16,6 +16,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     let d = match filter.family.as_str() {
         "kalman" => kalman::design(exp, filter)?,
         "minimax" => minimax::design(exp, filter)?,
+        "hinf" => hinf_lambda::design(exp, filter)?,
         other => unreachable!("family `{other}` passed validation but has no design procedure"),
     };
     d.realization.check(&filter.name, &exp.plant, exp.pattern)?;

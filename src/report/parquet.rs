@@ -53,7 +53,10 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.guarantee_kind.push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
-            c.violations.push(None);
+            let pt = d.design.per_trial.as_ref();
+            c.violations.push(pt.map(|_| sc.mc.filters[f].violations));
+            c.ratio_bound.push(pt.map(|b| b.bound));
+            c.max_ratio.push(pt.map(|_| sc.mc.filters[f].max_ratio));
             c.design_seconds.push(d.seconds);
             c.mc_seconds.push(sc.mc_seconds);
         }
@@ -78,6 +81,8 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             col("worst_case", c.worst_case),
             col("worst_case_psd", c.worst_case_psd),
             col("violations", c.violations),
+            col("ratio_bound", c.ratio_bound),
+            col("max_ratio", c.max_ratio),
             col("design_seconds", c.design_seconds),
             col("mc_seconds", c.mc_seconds),
         ],
@@ -106,6 +111,8 @@ struct SummaryCols {
     worst_case: Vec<Option<f64>>,
     worst_case_psd: Vec<Option<bool>>,
     violations: Vec<Option<u64>>,
+    ratio_bound: Vec<Option<f64>>,
+    max_ratio: Vec<Option<f64>>,
     design_seconds: Vec<f64>,
     mc_seconds: Vec<f64>,
 }
@@ -126,7 +133,7 @@ pub fn write_steps(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
                 lo.push(l);
                 hi.push(h);
                 ex.push(Some(sc.exact[f].per_step[k]));
-                bound.push(g.map(|g| g.per_step[k]));
+                bound.push(g.and_then(|g| g.per_step.get(k).copied()));
             }
         }
     }

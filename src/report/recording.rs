@@ -36,8 +36,8 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
                 rec.log(format!("{base}/ci_high"), &rerun::Scalars::single(hi)).map_err(|e| err(&e))?;
                 rec.log(format!("{base}/exact"), &rerun::Scalars::single(sc.exact[f].per_step[k]))
                     .map_err(|e| err(&e))?;
-                if let Some(g) = g {
-                    rec.log(format!("{base}/bound"), &rerun::Scalars::single(g.per_step[k])).map_err(|e| err(&e))?;
+                if let Some(b) = g.and_then(|g| g.per_step.get(k)) {
+                    rec.log(format!("{base}/bound"), &rerun::Scalars::single(*b)).map_err(|e| err(&e))?;
                 }
             }
         }

@@ -9,6 +9,7 @@ mod disturbance;
 mod end_to_end;
 mod exact_vs_mc;
 mod generators;
+mod hinf;
 mod kalman;
 mod minimax;
 mod sdp;

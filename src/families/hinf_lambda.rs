@@ -1,0 +1,208 @@
+//! The H∞-λ filter (seed 002 eqs (5.9)–(5.10), SPEC §4; docs/seed002_notes.md), a predictor:
+//!
+//!     M[t]    = P∞[t]⁻¹ + Cᵀ G_D⁻¹ C − λ⁻¹ Czᵀ Cz,   Θ∞[t] = A M⁻¹ Cᵀ G_D⁻¹,
+//!     P∞[t+1] = A M⁻¹ Aᵀ + G_B,                        P∞[0] = R,
+//!
+//! with the noise split (5.5): G_B = B G Bᵀ, G_D = D G Dᵀ ≻ 0, B G Dᵀ = 0, where R and G are the
+//! nominal covariances of x0 and w (the weights of the ellipsoid). It exists while
+//! Cz P∞[t] Czᵀ ≺ λI for t = 0..N−1 and S^½ P∞[N] S^½ ≺ λI; then for every input, random or not,
+//! Σ_{t<N} |e_z[t]|² + e[N]ᵀ S e[N] < λ (|x0 − E x0|²_R + Σ_{t<N} |w[t]|²_G).
+//! λ → ∞ gives the Kalman predictor; `lambda = "min"` bisects for the smallest feasible λ (the
+//! generalized H∞-optimal filter) and uses it times (1 + margin).
+
+use serde::Deserialize;
+
+use super::{Design, PerTrialBound};
+use crate::error::{Error, Result};
+use crate::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
+use crate::plant::{Covariances, Plant};
+use crate::realization::{Gains, Realization};
+use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Lambda {
+    Value(f64),
+    Keyword(String),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    /// λ > 0, or "min" for the smallest feasible λ.
+    lambda: Lambda,
+    /// S, the weight of the terminal state error e[N] (n×n, PSD); default 0.
+    terminal_weight: Option<Vec<Vec<f64>>>,
+    /// With lambda = "min": the filter uses λ_min (1 + margin), strictly feasible.
+    #[serde(default = "default_margin")]
+    margin: f64,
+}
+
+fn default_margin() -> f64 {
+    1e-6
+}
+
+/// Why a λ is infeasible: the first condition of (5.10) that fails.
+#[derive(Clone, Debug)]
+pub struct Infeasible {
+    pub step: usize,
+    pub terminal: bool,
+    pub value: f64,
+}
+
+impl std::fmt::Display for Infeasible {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.terminal {
+            write!(f, "λmax(S^½ P∞[N] S^½) = {:.6} ≥ λ at the final step {}", self.value, self.step)
+        } else {
+            write!(f, "λmax(Cz P∞ Czᵀ) = {:.6} ≥ λ at step {}", self.value, self.step)
+        }
+    }
+}
+
+/// The H∞-λ recursion (5.9)–(5.10): the gains Θ∞[t] for t = 0..N, or the first violated condition.
+pub fn recursion(
+    plant: &Plant,
+    weights: &Covariances,
+    s: &Mat,
+    lambda: f64,
+) -> std::result::Result<Vec<Mat>, Infeasible> {
+    let w = weights.w();
+    let (gb, n) = (&plant.b * &w * plant.b.transpose(), plant.nx());
+    let mut p = weights.x0().clone();
+    let mut gains = Vec::with_capacity(plant.steps());
+    for t in 0..plant.steps() {
+        let last = t == plant.horizon;
+        let (value, terminal) = if last {
+            let sh = crate::linalg::psd_factor(s);
+            (symmetrize(&(sh.transpose() * &p * &sh)).symmetric_eigenvalues().max(), true)
+        } else {
+            (symmetrize(&(&plant.cz * &p * plant.cz.transpose())).symmetric_eigenvalues().max(), false)
+        };
+        if value >= lambda {
+            return Err(Infeasible { step: t, terminal, value });
+        }
+        let (c, d) = (plant.c_at(t), plant.d_at(t));
+        let pinv = p.clone().try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
+        let mut m = pinv - plant.cz.transpose() * &plant.cz / lambda;
+        let mut theta = Mat::zeros(n, plant.ny());
+        if plant.measured(t) {
+            let gd_inv = (d * &w * d.transpose()).try_inverse().expect("G_D checked positive definite");
+            m += c.transpose() * &gd_inv * c;
+            let minv = m.clone().try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
+            theta = &plant.a * &minv * c.transpose() * gd_inv;
+            p = symmetrize(&(&plant.a * minv * plant.a.transpose() + &gb));
+        } else {
+            let minv = m.try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
+            p = symmetrize(&(&plant.a * minv * plant.a.transpose() + &gb));
+        }
+        gains.push(theta);
+    }
+    Ok(gains)
+}
+
+/// The smallest feasible λ, by bisection (feasibility is monotone in λ: P∞ decreases as λ grows).
+pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> {
+    let mut hi = 1.0;
+    let mut tries = 0;
+    while recursion(plant, weights, s, hi).is_err() {
+        hi *= 2.0;
+        tries += 1;
+        if tries > 200 {
+            return Err(Error::invalid("lambda", "no feasible λ found below 2^200"));
+        }
+    }
+    let mut lo = 0.0;
+    while hi - lo > 1e-12 * hi {
+        let mid = 0.5 * (lo + hi);
+        if recursion(plant, weights, s, mid).is_ok() { hi = mid } else { lo = mid }
+    }
+    Ok(hi)
+}
+
+/// The predictor realization of gains Θ[t]: s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
+pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
+    let n = plant.nx();
+    let steps = gains
+        .iter()
+        .enumerate()
+        .map(|(t, th)| Gains {
+            af: &plant.a - th * plant.c_at(t),
+            bf: th.clone(),
+            cf: plant.cz.clone(),
+            df: Mat::zeros(plant.nz(), plant.ny()),
+            gf: Mat::identity(n, n),
+        })
+        .collect();
+    Realization { s0: plant.x0_mean.clone(), steps }
+}
+
+/// Checks that the plant and weights fit seed 002's setting; returns S.
+pub fn check_setting(exp: &Experiment, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
+    let p = &exp.plant;
+    let n = p.nx();
+    if exp.pattern != Pattern::Prediction {
+        return Err(Error::invalid(
+            key,
+            "the H∞-λ filter is a predictor: the experiment's pattern must be \"prediction\"",
+        ));
+    }
+    if p.dz.amax() != 0.0 {
+        return Err(Error::invalid(key, "seed 002's plant has z = Cz x: plant.Dz must be zero"));
+    }
+    let w = exp.nominal.w();
+    let cross = (&p.b * &w * p.d.transpose()).amax();
+    if cross > 1e-12 * w.amax().max(1.0) {
+        return Err(Error::invalid(
+            key,
+            format!("needs the noise split (5.5), B G Dᵀ = 0, but max |B G Dᵀ| = {cross:.3e}"),
+        ));
+    }
+    if min_eigenvalue(&(&p.d * &w * p.d.transpose())) <= 0.0 {
+        return Err(Error::invalid(key, "needs G_D = D G Dᵀ positive definite (5.5)"));
+    }
+    if min_eigenvalue(exp.nominal.x0()) <= 0.0 {
+        return Err(Error::invalid(key, "needs R = cov x0 positive definite (P∞[0] = R)"));
+    }
+    let s = match terminal {
+        Some(r) => from_rows(&format!("{key}.terminal_weight"), r, Some((n, n)))?,
+        None => Mat::zeros(n, n),
+    };
+    crate::linalg::check_psd(&format!("{key}.terminal_weight"), &s)?;
+    Ok(s)
+}
+
+pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
+    let p: Params = family_params(filter)?;
+    let key = format!("filters.{}", filter.name);
+    let s = check_setting(exp, &key, &p.terminal_weight)?;
+    let (lambda, lmin) = match p.lambda {
+        Lambda::Value(l) if l > 0.0 && l.is_finite() => (l, None),
+        Lambda::Keyword(k) if k == "min" => {
+            if p.margin.is_nan() || p.margin <= 0.0 {
+                return Err(Error::invalid(format!("{key}.margin"), "must be > 0"));
+            }
+            let lm = lambda_min(&exp.plant, &exp.nominal, &s)?;
+            (lm * (1.0 + p.margin), Some(lm))
+        }
+        _ => return Err(Error::invalid(format!("{key}.lambda"), "must be a positive number or \"min\"")),
+    };
+    let gains = recursion(&exp.plant, &exp.nominal, &s, lambda)
+        .map_err(|e| Error::design(&filter.name, format!("λ = {lambda} is too small: {e}")))?;
+    let realization = predictor(&exp.plant, &gains);
+    let (norm2, _) = crate::hinf::norm(&exp.plant, &realization, &exp.nominal, &s)?;
+    let mut diagnostics = serde_json::Map::new();
+    diagnostics.insert("lambda".into(), lambda.into());
+    if let Some(lm) = lmin {
+        diagnostics.insert("lambda_min".into(), lm.into());
+    }
+    diagnostics.insert("hinf_norm_squared".into(), norm2.into());
+    Ok(Design {
+        realization,
+        guarantee: None,
+        design_covariance: None,
+        trace: Vec::new(),
+        diagnostics,
+        per_trial: Some(PerTrialBound { bound: lambda, terminal_weight: s }),
+    })
+}

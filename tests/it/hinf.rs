@@ -1,0 +1,113 @@
+//! The H∞-λ family (seed 002 §5): convergence to the Kalman predictor, the norm below λ, the worst
+//! input attaining the norm, the smallest λ, refusals, and the per-trial guarantee under Monte Carlo.
+
+use filterbench::families::hinf_lambda::{lambda_min, predictor, recursion};
+use filterbench::families::kalman::kalman;
+use filterbench::hinf;
+use filterbench::linalg::{Mat, Vector};
+use filterbench::run;
+use filterbench::spec::{self, Experiment, Pattern};
+
+fn load(trials: usize) -> Experiment {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_tradeoff.toml");
+    let mut e = spec::load(std::path::Path::new(path)).unwrap();
+    e.trials = trials;
+    e
+}
+
+/// Gains differ from the Kalman predictor's by O(1/λ): below 1e-6 at λ = 1e8.
+#[test]
+fn large_lambda_gives_the_kalman_predictor() {
+    let exp = load(10);
+    let s = Mat::identity(3, 3);
+    let gains = recursion(&exp.plant, &exp.nominal, &s, 1e8).unwrap();
+    let k = kalman(&exp.plant, &exp.nominal, Pattern::Prediction);
+    let diff = gains.iter().zip(&k.steps).map(|(g, kg)| (g - &kg.bf).amax()).fold(0.0, f64::max);
+    assert!(diff <= 1e-6, "max |Θ∞ − L_kalman| = {diff} at λ = 1e8");
+}
+
+/// The designed filter's norm² is below its λ, and equals λ_min at the smallest λ (to 1e-6
+/// relative); below λ_min the recursion fails.
+#[test]
+fn norm_below_lambda_and_lambda_min_is_tight() {
+    let exp = load(10);
+    let s = Mat::identity(3, 3);
+    let lmin = lambda_min(&exp.plant, &exp.nominal, &s).unwrap();
+    for factor in [1.0 + 1e-6, 1.5, 2.0, 10.0] {
+        let l = lmin * factor;
+        let r = predictor(&exp.plant, &recursion(&exp.plant, &exp.nominal, &s, l).unwrap());
+        let (n2, _) = hinf::norm(&exp.plant, &r, &exp.nominal, &s).unwrap();
+        assert!(n2 < l, "norm² {n2} not below λ = {l}");
+        if factor < 1.01 {
+            assert!((n2 - lmin).abs() <= 1e-6 * lmin, "norm² {n2} vs λ_min {lmin}");
+        }
+    }
+    assert!(recursion(&exp.plant, &exp.nominal, &s, lmin * (1.0 - 1e-6)).is_err());
+}
+
+/// The worst input ξ* on the ellipsoid, run through the filter by plain simulation (not through
+/// Ψ), gives the ratio λmax(ΨKΨᵀ) to 1e-9.
+#[test]
+fn worst_input_attains_the_norm() {
+    let exp = load(10);
+    let s = Mat::identity(3, 3);
+    let pl = &exp.plant;
+    let r = predictor(pl, &recursion(pl, &exp.nominal, &s, 7.5).unwrap());
+    let (n2, xi) = hinf::norm(pl, &r, &exp.nominal, &s).unwrap();
+    let (n, nw) = (pl.nx(), pl.nw());
+    let mut x = &pl.x0_mean + xi.rows(0, n);
+    let mut st = r.s0.clone();
+    let (mut num, mut zhat, mut next) = (0.0, Vector::zeros(pl.nz()), Vector::zeros(n));
+    for k in 0..pl.horizon {
+        let w = xi.rows(n + k * nw, nw).into_owned();
+        let y = pl.c_at(k) * &x + pl.d_at(k) * &w;
+        let z = &pl.cz * &x;
+        r.output(k, &st, &y, &mut zhat);
+        num += (z - &zhat).norm_squared();
+        r.advance(k, &st, &y, pl.r_at(k), &mut next);
+        st.copy_from(&next);
+        x = &pl.a * &x + &pl.b * &w + pl.r_at(k).cloned().unwrap_or_else(|| Vector::zeros(n));
+    }
+    let e = &x - &st;
+    num += (e.transpose() * &s * &e)[(0, 0)];
+    let k_inv = hinf::input_weight(pl, &exp.nominal).try_inverse().unwrap();
+    let den = (xi.transpose() * k_inv * &xi)[(0, 0)];
+    assert!((num / den - n2).abs() <= 1e-9 * n2, "ratio {} vs norm² {n2}", num / den);
+}
+
+#[test]
+fn too_small_lambda_and_wrong_settings_are_refused() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_tradeoff.toml")).unwrap();
+    let bad = text.replace("lambda = 7.5", "lambda = 1.0");
+    let e = spec::parse("h", "h.toml", &bad).unwrap();
+    let err = run::design_all(&e).err().expect("λ = 1 is infeasible").to_string();
+    assert!(err.contains("hinf_7.5") && err.contains("too small") && err.contains("step 0"), "{err}");
+    let filt = text.replace("pattern = \"prediction\"", "pattern = \"filtering\"");
+    let err = run::design_all(&spec::parse("h", "h.toml", &filt).unwrap()).err().unwrap().to_string();
+    assert!(err.contains("predictor"), "{err}");
+    let corr = text.replace("D = [[0.0, 0.0, 0.0, 0.5]]", "D = [[0.3, 0.0, 0.0, 0.5]]");
+    let err = run::design_all(&spec::parse("h", "h.toml", &corr).unwrap()).err().unwrap().to_string();
+    assert!(err.contains("noise split"), "{err}");
+}
+
+/// No trial of any scenario breaks the per-trial guarantee (4000 trials × 3 scenarios per filter).
+#[test]
+fn no_trial_violates_the_guarantee() {
+    let exp = load(4000);
+    let out = run::run(&exp, false).unwrap();
+    for sc in &out.scenarios {
+        for (f, spec) in exp.filters.iter().enumerate() {
+            if let Some(b) = &out.filters[f].design.per_trial {
+                let st = &sc.mc.filters[f];
+                assert_eq!(st.violations, 0, "{}/{}", sc.name, spec.name);
+                assert!(
+                    st.max_ratio < b.bound && st.max_ratio > 0.0,
+                    "{}/{}: max ratio {}",
+                    sc.name,
+                    spec.name,
+                    st.max_ratio
+                );
+            }
+        }
+    }
+}
