@@ -56,17 +56,30 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
 /// Σ_k |E e[k]|² over the steps that count: the deterministic part of J, from x0's mean, the known
 /// input and a deterministic sequence `w_mean` (column k is the mean of w[k]).
 pub fn mean_error(plant: &Plant, real: &Realization, w_mean: &Mat) -> f64 {
-    let zero = Covariances {
-        blocks: std::iter::once(plant.nx())
-            .chain(plant.noise_blocks.iter().map(|b| b.1))
-            .map(|d| Mat::zeros(d, d))
-            .collect(),
-    };
-    error_with_mean(plant, real, &zero, Some(w_mean)).total
+    error_with_mean(plant, real, &zero_covariances(plant), Some(w_mean)).total
 }
 
 /// As [`error`], with w[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
 pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> ExactError {
+    moments(plant, real, cov, w_mean).0
+}
+
+/// The mean error E e[k] at every step when w has zero mean (from x0's mean and the known input).
+pub fn mean_errors(plant: &Plant, real: &Realization) -> Vec<Vector> {
+    moments(plant, real, &zero_covariances(plant), None).1
+}
+
+fn zero_covariances(plant: &Plant) -> Covariances {
+    Covariances {
+        blocks: std::iter::once(plant.nx())
+            .chain(plant.noise_blocks.iter().map(|b| b.1))
+            .map(|d| Mat::zeros(d, d))
+            .collect(),
+    }
+}
+
+/// The exact error and the mean error vector of every step.
+fn moments(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> (ExactError, Vec<Vector>) {
     let (n, ns) = (plant.nx(), real.ns());
     let w = cov.w();
     let mut mean = Vector::zeros(n + ns);
@@ -75,6 +88,7 @@ pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_m
     let mut sigma = Mat::zeros(n + ns, n + ns);
     sigma.view_mut((0, 0), (n, n)).copy_from(cov.x0());
     let mut per_step = Vec::with_capacity(plant.steps());
+    let mut means = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         let aug = augmented(plant, real, k);
         let mut em = &aug.h * &mean;
@@ -85,6 +99,7 @@ pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_m
             + (&aug.h * &sigma * aug.h.transpose()).trace()
             + (&aug.g * &w * aug.g.transpose()).trace();
         per_step.push(mse);
+        means.push(em);
         if k < plant.horizon {
             sigma = symmetrize(&(&aug.f * &sigma * aug.f.transpose() + &aug.e * &w * aug.e.transpose()));
             let mut next = &aug.f * &mean;
@@ -100,7 +115,25 @@ pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_m
         }
     }
     let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
-    ExactError { per_step, total }
+    (ExactError { per_step, total }, means)
+}
+
+/// The exact error when ξ = col(x0 − E x0, w[0..N−1]) has mean `mean` and covariance `cov` jointly
+/// over the horizon (not white) and w[N] = 0: e[k] = c[k] + Ψ_k ξ, so
+/// E|e[k]|² = |c[k] + Ψ_k mean|² + tr(Ψ_k cov Ψ_kᵀ).
+pub fn error_joint(plant: &Plant, real: &Realization, mean: &Vector, cov: &Mat) -> crate::error::Result<ExactError> {
+    let psi = crate::hinf::operator_with(plant, real, crate::hinf::Terminal::Output)?;
+    let c = mean_errors(plant, real);
+    let nz = plant.nz();
+    let per_step: Vec<f64> = (0..plant.steps())
+        .map(|k| {
+            let pk = psi.rows(k * nz, nz);
+            let m = &c[k] + pk * mean;
+            m.norm_squared() + (pk * cov * pk.transpose()).trace()
+        })
+        .collect();
+    let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+    Ok(ExactError { per_step, total })
 }
 
 /// ∂J/∂K for every covariance block (J = summed exact error): J(K) = J(0) + Σ_i ⟨grad_i, K_i⟩.

@@ -11,10 +11,25 @@ use crate::linalg::{Mat, Vector, block_diag, psd_factor};
 use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
 
+/// What the last block of rows of Ψ holds.
+pub enum Terminal<'a> {
+    /// S^½ e[N], the weighted terminal state error (seed 002; needs ns = n).
+    State(&'a Mat),
+    /// e_z[N], so that Ψ gives the error at every step k = 0..N (with w[N] = 0).
+    Output,
+}
+
 /// Adds to column `col` of Ψ the response to the augmented state `xi` at step `k`.
-fn respond(aug: &[Augmented], psi: &mut Mat, col: usize, mut k: usize, mut xi: Vector, s_half: &Mat, nz: usize) {
+fn respond(
+    aug: &[Augmented],
+    psi: &mut Mat,
+    col: usize,
+    mut k: usize,
+    mut xi: Vector,
+    s_half: Option<&Mat>,
+    nz: usize,
+) {
     let nn = aug.len() - 1;
-    let n = s_half.nrows();
     while k < nn {
         let e = &aug[k].h * &xi;
         let mut v = psi.view_mut((k * nz, col), (nz, 1));
@@ -22,31 +37,54 @@ fn respond(aug: &[Augmented], psi: &mut Mat, col: usize, mut k: usize, mut xi: V
         xi = &aug[k].f * &xi;
         k += 1;
     }
-    let e = xi.rows(0, n) - xi.rows(n, n);
-    let mut v = psi.view_mut((nn * nz, col), (n, 1));
-    v += s_half * e;
+    match s_half {
+        Some(sh) => {
+            let n = sh.nrows();
+            let e = xi.rows(0, n) - xi.rows(n, n);
+            let mut v = psi.view_mut((nn * nz, col), (n, 1));
+            v += sh * e;
+        }
+        None => {
+            let e = &aug[nn].h * &xi;
+            let mut v = psi.view_mut((nn * nz, col), (nz, 1));
+            v += &e;
+        }
+    }
 }
 
-/// The stacked operator Ψ (rows: e_z[0..N−1], then S^½ e[N]; columns: x0, then w[0..N−1]).
+/// The stacked operator Ψ of seed 002 (rows: e_z[0..N−1], then S^½ e[N]; columns: x0, then
+/// w[0..N−1]).
 pub fn operator(plant: &Plant, real: &Realization, s: &Mat) -> Result<Mat> {
+    operator_with(plant, real, Terminal::State(s))
+}
+
+/// Ψ with the chosen last block of rows (see [`Terminal`]).
+pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> Result<Mat> {
     let (n, nz, nw, nn) = (plant.nx(), plant.nz(), plant.nw(), plant.horizon);
-    if real.ns() != n {
-        return Err(Error::invalid("hinf", "the H∞ analysis needs a state-estimate realization (ns = n)"));
-    }
-    let s_half = psd_factor(s).transpose();
+    let s_half = match terminal {
+        Terminal::State(s) => {
+            if real.ns() != n {
+                return Err(Error::invalid("hinf", "the H∞ analysis needs a state-estimate realization (ns = n)"));
+            }
+            Some(psd_factor(s).transpose())
+        }
+        Terminal::Output => None,
+    };
+    let last_rows = if s_half.is_some() { n } else { nz };
+    let ns = real.ns();
     let aug: Vec<Augmented> = (0..plant.steps()).map(|k| augmented(plant, real, k)).collect();
-    let mut psi = Mat::zeros(nn * nz + n, n + nn * nw);
+    let mut psi = Mat::zeros(nn * nz + last_rows, n + nn * nw);
     for j in 0..n {
-        let mut xi = Vector::zeros(2 * n);
+        let mut xi = Vector::zeros(n + ns);
         xi[j] = 1.0;
-        respond(&aug, &mut psi, j, 0, xi, &s_half, nz);
+        respond(&aug, &mut psi, j, 0, xi, s_half.as_ref(), nz);
     }
     for k0 in 0..nn {
         for j in 0..nw {
             let col = n + k0 * nw + j;
             let mut v = psi.view_mut((k0 * nz, col), (nz, 1));
             v += aug[k0].g.column(j);
-            respond(&aug, &mut psi, col, k0 + 1, aug[k0].e.column(j).into_owned(), &s_half, nz);
+            respond(&aug, &mut psi, col, k0 + 1, aug[k0].e.column(j).into_owned(), s_half.as_ref(), nz);
         }
     }
     Ok(psi)

@@ -12,10 +12,10 @@ use crate::exact::{self, ExactError, WorstCase};
 use crate::families::{Design, registry};
 use crate::linalg::Mat;
 use crate::montecarlo::{self, McStats, Trajectory};
-use crate::noise::NoiseSampler;
+use crate::noise::{JointInput, NoiseSampler};
 use crate::plant::Covariances;
 use crate::realization::Realization;
-use crate::spec::Experiment;
+use crate::spec::{Experiment, InputChoice};
 
 /// A designed filter with its cost and its worst case over the experiment's uncertainty sets.
 pub struct DesignedFilter {
@@ -91,6 +91,29 @@ pub fn ratio_check<'a>(exp: &Experiment, filters: &'a [DesignedFilter]) -> Optio
     })
 }
 
+/// The joint input of a scenario, if it has one, with the ellipsoid weighted by the nominal
+/// covariances K = blockdiag(x0, w, …, w) (seed 002).
+fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice) -> Result<Option<JointInput>> {
+    let k = || crate::hinf::input_weight(&exp.plant, &exp.sampling(&exp.nominal));
+    Ok(match input {
+        InputChoice::Independent => None,
+        InputChoice::EllipsoidSurface => {
+            Some(JointInput::Ellipsoid { k_half: crate::linalg::psd_factor(&k()), surface: true })
+        }
+        InputChoice::EllipsoidInterior => {
+            Some(JointInput::Ellipsoid { k_half: crate::linalg::psd_factor(&k()), surface: false })
+        }
+        InputChoice::RandomCovariance { seed } => Some(JointInput::random_covariance(&k(), *seed)),
+        InputChoice::EllipsoidWorstFor { filter } => {
+            let d = &filters[*filter].design;
+            let n = exp.plant.nx();
+            let s = d.per_trial.as_ref().map_or_else(|| Mat::zeros(n, n), |b| b.terminal_weight.clone());
+            let (_, xi) = crate::hinf::norm(&exp.plant, &d.realization, &exp.sampling(&exp.nominal), &s)?;
+            Some(JointInput::Fixed { xi })
+        }
+    })
+}
+
 /// Resolves the concrete covariance of every scenario (a worst case needs the designed filter).
 pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Result<Vec<Covariances>> {
     exp.scenarios
@@ -133,7 +156,8 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
                 filters[*filter].worst.as_ref().and_then(|w| w.disturbance.clone()),
             ),
         };
-        let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape).with_mean(w_mean.clone());
+        let joint = joint_input(exp, &filters, &s.input)?;
+        let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape).with_mean(w_mean.clone()).with_joint(joint.clone());
         let sc = montecarlo::Scenario {
             plant: &exp.plant,
             filters: &reals,
@@ -146,10 +170,17 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
         let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
         let mc_seconds = t.elapsed().as_secs_f64();
         let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
-        let exact = reals.iter().map(|r| exact::error_with_mean(&exp.plant, r, &cov, w_mean.as_ref())).collect();
+        let exact = match &joint {
+            None => reals.iter().map(|r| Ok(exact::error_with_mean(&exp.plant, r, &cov, w_mean.as_ref()))).collect(),
+            Some(j) => {
+                let (mean, jcov) = j.moments();
+                reals.iter().map(|r| exact::error_joint(&exp.plant, r, &mean, &jcov)).collect::<Result<Vec<_>>>()
+            }
+        }?;
+        let covariance_label = joint.as_ref().map_or_else(|| s.covariance.label(exp), |j| j.label().to_string());
         scenarios.push(ScenarioOutcome {
             name: s.name.clone(),
-            covariance_label: s.covariance.label(exp),
+            covariance_label,
             shape_label: s.shape.label(),
             covariances: cov,
             disturbance_label,

@@ -120,6 +120,42 @@ struct ScenarioFile {
     shape: Shape,
     #[serde(default)]
     disturbance: DisturbanceChoiceFile,
+    #[serde(default)]
+    input: InputFile,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum InputFile {
+    #[default]
+    Independent,
+    EllipsoidSurface,
+    EllipsoidInterior,
+    RandomCovariance {
+        seed: u64,
+    },
+    EllipsoidWorstFor {
+        filter: String,
+    },
+}
+
+/// How a scenario's inputs are drawn: block by block and white in time (the default), or jointly
+/// over the horizon as ξ = col(x0 − E x0, w[0..N−1]) (seed 002's setting; w[N] = 0).
+#[derive(Clone, Debug, PartialEq)]
+pub enum InputChoice {
+    Independent,
+    /// Uniform on the surface of the ellipsoid ξᵀK⁻¹ξ = 1, K = blockdiag(nominal x0, nominal w, …).
+    EllipsoidSurface,
+    /// Uniform inside that ellipsoid.
+    EllipsoidInterior,
+    /// ξ ~ (0, Σ) with Σ a random full covariance (fixed by the seed), E[ξᵀK⁻¹ξ] = dim.
+    RandomCovariance {
+        seed: u64,
+    },
+    /// The worst input on the ellipsoid for the named filter (the top eigenvector of ΨKΨᵀ).
+    EllipsoidWorstFor {
+        filter: usize,
+    },
 }
 
 /// An energy-bounded deterministic disturbance block (seed 000 eq (36)).
@@ -230,6 +266,7 @@ pub struct Scenario {
     pub covariance: CovChoice,
     pub shape: Shape,
     pub disturbance: DisturbanceChoice,
+    pub input: InputChoice,
 }
 
 /// A filter entry: its name, its family, and the family's own parameters (parsed by the family).
@@ -579,7 +616,22 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
                 })?,
             },
         };
-        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance });
+        let ikey = format!("scenarios.{}.input", s.name);
+        let input = match s.input {
+            InputFile::Independent => InputChoice::Independent,
+            _ if !matches!(covariance, CovChoice::Nominal) || disturbance != DisturbanceChoice::None => {
+                return Err(Error::invalid(ikey, "a joint input replaces `covariance` and `disturbance`: remove them"));
+            }
+            InputFile::EllipsoidSurface => InputChoice::EllipsoidSurface,
+            InputFile::EllipsoidInterior => InputChoice::EllipsoidInterior,
+            InputFile::RandomCovariance { seed } => InputChoice::RandomCovariance { seed },
+            InputFile::EllipsoidWorstFor { filter } => InputChoice::EllipsoidWorstFor {
+                filter: filters.iter().position(|x| x.name == filter).ok_or_else(|| {
+                    Error::invalid(format!("{ikey}.filter"), format!("no filter named `{filter}` in this experiment"))
+                })?,
+            },
+        };
+        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance, input });
     }
     if f.sample_trajectories > f.trials {
         return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));

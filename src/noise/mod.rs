@@ -3,9 +3,11 @@
 //! unit-variance draws to that covariance exactly.
 
 mod choice;
+mod joint;
 mod sampler;
 mod shape;
 
 pub use choice::CovChoice;
+pub use joint::JointInput;
 pub use sampler::{NoiseSampler, TrialDraw, trial_rng};
 pub use shape::Shape;

@@ -5,6 +5,7 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::joint::JointInput;
 use super::shape::{Shape, StandardDraw};
 use crate::linalg::{Mat, Vector, psd_factor};
 use crate::plant::{Covariances, Plant};
@@ -34,6 +35,8 @@ pub struct NoiseSampler {
     steps: usize,
     /// Deterministic part of w[k] (column k), if any: energy-bounded disturbances.
     w_mean: Option<Mat>,
+    /// Inputs drawn jointly over the horizon instead of block by block.
+    joint: Option<JointInput>,
 }
 
 /// One trial's draws: the initial state and w[k] as column k of `w`.
@@ -43,6 +46,8 @@ pub struct TrialDraw {
     pub w: Mat,
     u0: Vector,
     u: Vector,
+    uj: Vector,
+    xi: Vector,
 }
 
 impl NoiseSampler {
@@ -54,7 +59,14 @@ impl NoiseSampler {
             draw: shape.sampler(),
             steps: plant.steps(),
             w_mean: None,
+            joint: None,
         }
+    }
+
+    /// Draws ξ = col(x0 − E x0, w[0..N−1]) jointly (w[N] = 0) instead of independently.
+    pub fn with_joint(mut self, joint: Option<JointInput>) -> Self {
+        self.joint = joint;
+        self
     }
 
     /// Adds a deterministic sequence to w (column k is added to w[k]).
@@ -69,11 +81,25 @@ impl NoiseSampler {
             w: Mat::zeros(self.lw.nrows(), self.steps),
             u0: Vector::zeros(self.l0.ncols()),
             u: Vector::zeros(self.lw.ncols()),
+            uj: Vector::zeros(self.joint.as_ref().map_or(0, JointInput::dim)),
+            xi: Vector::zeros(self.joint.as_ref().map_or(0, JointInput::dim)),
         }
     }
 
     /// Fills `out` with one trial's draws from `rng`.
     pub fn draw_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, out: &mut TrialDraw) {
+        if let Some(j) = &self.joint {
+            j.draw(rng, &self.draw, &mut out.uj, &mut out.xi);
+            let n = self.m0.len();
+            let nw = out.w.nrows();
+            out.x0.copy_from(&self.m0);
+            out.x0 += out.xi.rows(0, n);
+            out.w.fill(0.0);
+            for k in 0..self.steps - 1 {
+                out.w.column_mut(k).copy_from(&out.xi.rows(n + k * nw, nw));
+            }
+            return;
+        }
         for v in out.u0.iter_mut() {
             *v = self.draw.draw(rng);
         }

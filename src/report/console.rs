@@ -8,7 +8,8 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// One block per scenario, one line per filter: empirical mean ± 95 % half-width, exact, z-score of
-/// (empirical − exact) in standard errors, guaranteed bound, worst case over the set.
+/// (empirical − exact) in standard errors (0 for a deterministic input, whose trials are all the
+/// same), guaranteed bound, worst case over the set.
 pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
     let mut s = format!(
         "{}: {} trials × {} scenarios, N = {}, {} thread(s), {:.2} s\n",
@@ -41,7 +42,7 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
                 st.mean,
                 half,
                 ex,
-                (st.mean - ex) / st.std_error(),
+                if st.std_error() > 0.0 { (st.mean - ex) / st.std_error() } else { 0.0 },
                 opt(d.design.guarantee.as_ref().map(|g| g.total)),
                 opt(d.worst.as_ref().map(|w| w.total)),
             );

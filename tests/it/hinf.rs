@@ -75,6 +75,12 @@ fn worst_input_attains_the_norm() {
     assert!((num / den - n2).abs() <= 1e-9 * n2, "ratio {} vs norm² {n2}", num / den);
 }
 
+/// Monte Carlo against the exact error for joint inputs (ellipsoid, random covariance, fixed).
+#[test]
+fn monte_carlo_matches_the_exact_error_for_joint_inputs() {
+    crate::exact_vs_mc::check(&load(4000));
+}
+
 #[test]
 fn too_small_lambda_and_wrong_settings_are_refused() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_tradeoff.toml")).unwrap();
@@ -90,11 +96,24 @@ fn too_small_lambda_and_wrong_settings_are_refused() {
     assert!(err.contains("noise split"), "{err}");
 }
 
-/// No trial of any scenario breaks the per-trial guarantee (4000 trials × 3 scenarios per filter).
+/// No trial of any scenario breaks the per-trial guarantee: 4000 trials × 10 scenarios per filter,
+/// white noise of three shapes, random full covariances over the horizon, points on and inside the
+/// ellipsoid, and each filter's worst input, whose ratio must equal the norm² (to 1e-9 relative).
 #[test]
 fn no_trial_violates_the_guarantee() {
     let exp = load(4000);
     let out = run::run(&exp, false).unwrap();
+    let mut checked = 0;
+    for (f, spec) in exp.filters.iter().enumerate() {
+        let Some(norm2) = out.filters[f].design.diagnostics.get("hinf_norm_squared").and_then(|v| v.as_f64()) else {
+            continue;
+        };
+        let Some(sc) = out.scenarios.iter().find(|s| s.name == format!("worst_for_{}", spec.name)) else { continue };
+        let r = sc.mc.filters[f].max_ratio;
+        assert!((r - norm2).abs() <= 1e-9 * norm2, "{}: worst input ratio {r} vs norm² {norm2}", spec.name);
+        checked += 1;
+    }
+    assert_eq!(checked, 2, "hinf_min and hinf_7.5 have a worst-input scenario");
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
             if let Some(b) = &out.filters[f].design.per_trial {

@@ -1,0 +1,97 @@
+//! Inputs drawn jointly over the whole horizon (SPEC §7; seed 002 §2): ξ = col(x0 − E x0,
+//! w[0..N−1]) with w[N] = 0, either with a full (not white) covariance, uniformly on or inside the
+//! weighted ellipsoid ξᵀK⁻¹ξ ≤ 1, or fixed (a filter's worst case). The factor is computed once per
+//! scenario; a trial draws into preallocated buffers.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal, Uniform};
+
+use crate::linalg::{Mat, Vector, psd_factor};
+
+#[derive(Clone, Debug)]
+pub enum JointInput {
+    /// ξ = factor · u with u i.i.d. of the scenario's shape: covariance factor·factorᵀ.
+    Correlated { factor: Mat },
+    /// Uniform direction in the K-metric, on the ellipsoid's surface or uniform inside it.
+    Ellipsoid { k_half: Mat, surface: bool },
+    /// The same ξ in every trial.
+    Fixed { xi: Vector },
+}
+
+impl JointInput {
+    /// A random full covariance over the horizon, K^½ B K^½ᵀ with B = AAᵀ (A Gaussian) scaled so
+    /// that E[ξᵀK⁻¹ξ] = dim, as for white noise of covariance K.
+    pub fn random_covariance(k: &Mat, seed: u64) -> Self {
+        let d = k.nrows();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let a = Mat::from_fn(d, d, |_, _| StandardNormal.sample(&mut rng));
+        let mut b = &a * a.transpose();
+        b *= d as f64 / b.trace();
+        let k_half = psd_factor(k);
+        JointInput::Correlated { factor: k_half * psd_factor(&b) }
+    }
+
+    pub fn dim(&self) -> usize {
+        match self {
+            JointInput::Correlated { factor } => factor.nrows(),
+            JointInput::Ellipsoid { k_half, .. } => k_half.nrows(),
+            JointInput::Fixed { xi } => xi.len(),
+        }
+    }
+
+    /// E ξ and Cov ξ: ellipsoid surface K/d, uniform inside K/(d+2) (E r² = d/(d+2)).
+    pub fn moments(&self) -> (Vector, Mat) {
+        let d = self.dim();
+        match self {
+            JointInput::Correlated { factor } => (Vector::zeros(d), factor * factor.transpose()),
+            JointInput::Ellipsoid { k_half, surface } => {
+                let k = k_half * k_half.transpose();
+                (Vector::zeros(d), k / if *surface { d as f64 } else { d as f64 + 2.0 })
+            }
+            JointInput::Fixed { xi } => (xi.clone(), Mat::zeros(d, d)),
+        }
+    }
+
+    pub fn label(&self) -> &'static str {
+        match self {
+            JointInput::Correlated { .. } => "joint_correlated",
+            JointInput::Ellipsoid { surface: true, .. } => "ellipsoid_surface",
+            JointInput::Ellipsoid { surface: false, .. } => "ellipsoid_interior",
+            JointInput::Fixed { .. } => "fixed",
+        }
+    }
+
+    /// Writes one ξ into `xi`, drawing from `rng` (`u` is scratch of size dim; `std` the shape's
+    /// standardized draw, used by the correlated kind).
+    pub fn draw<R: rand::Rng + ?Sized>(
+        &self,
+        rng: &mut R,
+        std: &super::shape::StandardDraw,
+        u: &mut Vector,
+        xi: &mut Vector,
+    ) {
+        match self {
+            JointInput::Correlated { factor } => {
+                for v in u.iter_mut() {
+                    *v = std.draw(rng);
+                }
+                xi.gemv(1.0, factor, u, 0.0);
+            }
+            JointInput::Ellipsoid { k_half, surface } => {
+                for v in u.iter_mut() {
+                    *v = StandardNormal.sample(rng);
+                }
+                let radius = if *surface {
+                    1.0
+                } else {
+                    let r: f64 = Uniform::new(0.0, 1.0).expect("valid interval").sample(rng);
+                    r.powf(1.0 / u.len() as f64)
+                };
+                let scale = radius / u.norm();
+                xi.gemv(scale, k_half, u, 0.0);
+            }
+            JointInput::Fixed { xi: fixed } => xi.copy_from(fixed),
+        }
+    }
+}
