@@ -197,6 +197,10 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         diagnostics.insert("lambda_min".into(), lm.into());
     }
     diagnostics.insert("hinf_norm_squared".into(), norm2.into());
+    let (sdp, iterations, seconds) = crate::hinf::norm_sdp(&exp.plant, &realization, &exp.nominal, &s)?;
+    diagnostics.insert("hinf_norm_squared_sdp".into(), sdp.into());
+    diagnostics.insert("sdp_iterations".into(), iterations.into());
+    diagnostics.insert("sdp_seconds".into(), seconds.into());
     Ok(Design {
         realization,
         guarantee: None,

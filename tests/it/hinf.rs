@@ -130,3 +130,45 @@ fn no_trial_violates_the_guarantee() {
         }
     }
 }
+
+/// The two independent computations of the generalized H∞ norm² agree to 1e-6 relative: λmax of
+/// the stacked operator (faer) and the SDP (4.7) (clarabel), on the experiment's filters and on
+/// random plants (noise split (5.5), random gains of the H∞-λ family).
+#[test]
+fn operator_and_sdp_norms_agree() {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    let exp = load(10);
+    let s = Mat::identity(3, 3);
+    let filters = run::design_all(&exp).unwrap();
+    let mut cases: Vec<(Experiment, filterbench::realization::Realization)> =
+        filters.iter().map(|f| (exp.clone(), f.design.realization.clone())).collect();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let mut g = |r: usize, c: usize, scale: f64| {
+        Mat::from_fn(r, c, |_, _| {
+            scale * {
+                let x: f64 = StandardNormal.sample(&mut rng);
+                x
+            }
+        })
+    };
+    for _ in 0..3 {
+        let mut e = exp.clone();
+        e.plant.horizon = 15;
+        e.plant.known_input.clear();
+        e.plant.a = g(3, 3, 0.5);
+        let b = g(3, 3, 0.4);
+        e.plant.b.view_mut((0, 0), (3, 3)).copy_from(&b);
+        e.plant.c = g(1, 3, 1.0);
+        e.plant.cz = g(2, 3, 1.0);
+        let l = lambda_min(&e.plant, &e.nominal, &s).unwrap();
+        let r = predictor(&e.plant, &recursion(&e.plant, &e.nominal, &s, 1.7 * l).unwrap());
+        cases.push((e, r));
+    }
+    for (e, r) in &cases {
+        let (a, _) = hinf::norm(&e.plant, r, &e.nominal, &s).unwrap();
+        let (b, it, secs) = hinf::norm_sdp(&e.plant, r, &e.nominal, &s).unwrap();
+        assert!((a - b).abs() <= 1e-6 * a, "λmax {a} vs SDP {b}");
+        eprintln!("norm² λmax {a:.9} SDP {b:.9} ({it} iterations, {secs:.3} s, N = {})", e.plant.horizon);
+    }
+}
