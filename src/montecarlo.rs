@@ -8,6 +8,7 @@
 
 use rayon::prelude::*;
 
+use crate::families::PerTrialBound;
 use crate::linalg::{Mat, Vector};
 use crate::noise::{NoiseSampler, TrialDraw, trial_rng};
 use crate::plant::Plant;
@@ -88,7 +89,7 @@ pub struct Scenario<'a> {
 pub struct RatioCheck<'a> {
     pub x0_weight: Mat,
     pub w_weight: Mat,
-    pub bounds: Vec<Option<&'a crate::families::PerTrialBound>>,
+    pub bounds: Vec<Option<&'a PerTrialBound>>,
 }
 
 /// Preallocated per-thread buffers: one trial allocates nothing.
@@ -103,6 +104,10 @@ pub struct Workspace {
     s_next: Vec<Vector>,
     e0: Vector,
     wtmp: Vector,
+    /// e_z[k] of every filter (column k), kept only when a per-trial check needs the whole path.
+    ez: Vec<Mat>,
+    energy: Vec<f64>,
+    ztmp: Vector,
 }
 
 impl Workspace {
@@ -119,6 +124,9 @@ impl Workspace {
             s_next: sc.filters.iter().map(|r| r.s0.clone()).collect(),
             e0: Vector::zeros(p.nx()),
             wtmp: Vector::zeros(p.nw()),
+            ez: if sc.ratios.is_some() { vec![Mat::zeros(p.nz(), p.steps()); sc.filters.len()] } else { Vec::new() },
+            energy: vec![0.0; p.steps()],
+            ztmp: Vector::zeros(p.nz()),
         }
     }
 }
@@ -144,6 +152,11 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
         for (f, real) in sc.filters.iter().enumerate() {
             real.output(k, &ws.s[f], &ws.y, &mut ws.zhat);
             visit(k, f, &ws.z, &ws.zhat);
+            if let Some(ez) = ws.ez.get_mut(f) {
+                let mut col = ez.column_mut(k);
+                col.copy_from(&ws.z);
+                col -= &ws.zhat;
+            }
             if k < p.horizon {
                 real.advance(k, &ws.s[f], &ws.y, r, &mut ws.s_next[f]);
                 std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
@@ -160,27 +173,43 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
     }
 }
 
-/// Seed 002's per-trial ratio for every filter with a bound (the workspace still holds the trial's
-/// draws and final states).
-fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, sums: &[f64], stats: &mut [FilterStats]) {
+/// Seed 002's per-trial promises for every filter that has one (the workspace still holds the
+/// trial's draws, its errors e_z[k] and the final states). Energies are prefix sums E_t.
+fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut [FilterStats]) {
     ws.e0.copy_from(&ws.draw.x0);
     ws.e0 -= &plant.x0_mean;
     ws.x_next.gemv(1.0, &rc.x0_weight, &ws.e0, 0.0);
-    let mut energy = ws.e0.dot(&ws.x_next);
+    ws.energy[0] = ws.e0.dot(&ws.x_next);
     for k in 0..plant.horizon {
         let wk = ws.draw.w.column(k);
         ws.wtmp.gemv(1.0, &rc.w_weight, &wk, 0.0);
-        energy += wk.dot(&ws.wtmp);
+        ws.energy[k + 1] = ws.energy[k] + wk.dot(&ws.wtmp);
     }
     for (f, b) in rc.bounds.iter().enumerate() {
-        if let Some(b) = b {
-            ws.e0.copy_from(&ws.x);
-            ws.e0 -= &ws.s[f];
-            ws.x_next.gemv(1.0, &b.terminal_weight, &ws.e0, 0.0);
-            let ratio = (sums[f] + ws.e0.dot(&ws.x_next)) / energy;
-            stats[f].max_ratio = stats[f].max_ratio.max(ratio);
-            if ratio >= b.bound {
-                stats[f].violations += 1;
+        match b {
+            None => {}
+            Some(PerTrialBound::Ratio { bound, terminal_weight }) => {
+                let sum: f64 = (0..plant.horizon).map(|k| ws.ez[f].column(k).norm_squared()).sum();
+                ws.e0.copy_from(&ws.x);
+                ws.e0 -= &ws.s[f];
+                ws.x_next.gemv(1.0, terminal_weight, &ws.e0, 0.0);
+                let ratio = (sum + ws.e0.dot(&ws.x_next)) / ws.energy[plant.horizon];
+                stats[f].max_ratio = stats[f].max_ratio.max(ratio);
+                if ratio >= *bound {
+                    stats[f].violations += 1;
+                }
+            }
+            Some(PerTrialBound::Ellipsoid { weights }) => {
+                let mut broke = false;
+                for (k, q) in weights.iter().enumerate() {
+                    let e = ws.ez[f].column(k);
+                    ws.ztmp.gemv(1.0, q, &e, 0.0);
+                    let ratio = e.dot(&ws.ztmp) / ws.energy[k];
+                    stats[f].max_ratio = stats[f].max_ratio.max(ratio);
+                    // Equality is attained by the worst input: allow rounding only.
+                    broke |= ratio > 1.0 + 1e-9;
+                }
+                stats[f].violations += broke as u64;
             }
         }
     }
@@ -196,10 +225,8 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
     let pairs = McStats::pairs(nf);
     let plant = sc.plant;
     let mut totals = vec![0.0; nf];
-    let mut before_last = vec![0.0; nf];
     for t in first..last {
         totals.fill(0.0);
-        before_last.fill(0.0);
         let per_filter = &mut st.filters;
         run_trial(sc, ws, t, |k, f, z, zhat| {
             let e2 = squared_error(z, zhat);
@@ -207,12 +234,9 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
             if plant.counts(k) {
                 totals[f] += e2;
             }
-            if k < plant.horizon {
-                before_last[f] += e2;
-            }
         });
         if let Some(rc) = &sc.ratios {
-            check_ratios(rc, ws, plant, &before_last, &mut st.filters);
+            check_ratios(rc, ws, plant, &mut st.filters);
         }
         for (acc, v) in st.filters.iter_mut().zip(&totals) {
             acc.total.push(*v);

@@ -107,7 +107,10 @@ fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice
         InputChoice::EllipsoidWorstFor { filter } => {
             let d = &filters[*filter].design;
             let n = exp.plant.nx();
-            let s = d.per_trial.as_ref().map_or_else(|| Mat::zeros(n, n), |b| b.terminal_weight.clone());
+            let s = match &d.per_trial {
+                Some(crate::families::PerTrialBound::Ratio { terminal_weight, .. }) => terminal_weight.clone(),
+                _ => Mat::zeros(n, n),
+            };
             let (_, xi) = crate::hinf::norm(&exp.plant, &d.realization, &exp.sampling(&exp.nominal), &s)?;
             Some(JointInput::Fixed { xi })
         }

@@ -207,6 +207,6 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         design_covariance: None,
         trace: Vec::new(),
         diagnostics,
-        per_trial: Some(PerTrialBound { bound: lambda, terminal_weight: s }),
+        per_trial: Some(PerTrialBound::Ratio { bound: lambda, terminal_weight: s }),
     })
 }

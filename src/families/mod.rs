@@ -45,11 +45,23 @@ pub struct Design {
     pub per_trial: Option<PerTrialBound>,
 }
 
-/// Seed 002's per-realization promise: for every trial,
-/// ratio = (Σ_{k<N} |e_z[k]|² + e[N]ᵀ S e[N]) / (|x0 − E x0|²_R + Σ_{k<N} |w[k]|²_G) < bound,
-/// with R, G the nominal covariances of x0 and w and e = x − s the state error.
+/// Seed 002's per-realization promises, with the input energy
+/// E_t = |x0 − E x0|²_R + Σ_{k<t} |w[k]|²_G (R, G the nominal covariances of x0 and w).
 #[derive(Clone, Debug)]
-pub struct PerTrialBound {
-    pub bound: f64,
-    pub terminal_weight: crate::linalg::Mat,
+pub enum PerTrialBound {
+    /// H∞-λ (eqs (5.9)–(5.10)): (Σ_{k<N} |e_z[k]|² + e[N]ᵀ S e[N]) / E_N < bound, e = x − s.
+    Ratio { bound: f64, terminal_weight: crate::linalg::Mat },
+    /// Generalized H2 (Theorem 3.1 on (5.6)–(5.7)): e_z[t]ᵀ Q[t] e_z[t] ≤ E_t at every step t, with
+    /// Q[t] = (Cz P2[t] Czᵀ)⁺: the error lies in the ellipsoid of Cz P2 Czᵀ scaled by the energy.
+    Ellipsoid { weights: Vec<crate::linalg::Mat> },
+}
+
+impl PerTrialBound {
+    /// The bound on the reported ratio (1 for the ellipsoid form).
+    pub fn bound(&self) -> f64 {
+        match self {
+            PerTrialBound::Ratio { bound, .. } => *bound,
+            PerTrialBound::Ellipsoid { .. } => 1.0,
+        }
+    }
 }

@@ -55,7 +55,7 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             let pt = d.design.per_trial.as_ref();
             c.violations.push(pt.map(|_| sc.mc.filters[f].violations));
-            c.ratio_bound.push(pt.map(|b| b.bound));
+            c.ratio_bound.push(pt.map(|b| b.bound()));
             c.max_ratio.push(pt.map(|_| sc.mc.filters[f].max_ratio));
             c.design_seconds.push(d.seconds);
             c.mc_seconds.push(sc.mc_seconds);
