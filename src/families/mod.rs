@@ -2,6 +2,7 @@
 //! a [`Realization`] plus what its theory guarantees. Adding a family is one file here and one line
 //! in [`registry`].
 
+pub mod h2;
 pub mod hinf_lambda;
 pub mod kalman;
 pub mod minimax;

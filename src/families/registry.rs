@@ -1,11 +1,11 @@
 //! Family name → design procedure.
 
-use super::{Design, hinf_lambda, kalman, minimax};
+use super::{Design, h2, hinf_lambda, kalman, minimax};
 use crate::error::Result;
 use crate::spec::{Experiment, FilterSpec};
 
 /// Every family an experiment file may name.
-pub const FAMILIES: &[&str] = &["kalman", "minimax", "hinf"];
+pub const FAMILIES: &[&str] = &["kalman", "minimax", "hinf", "h2"];
 
 pub fn is_family(name: &str) -> bool {
     FAMILIES.contains(&name)
@@ -17,6 +17,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         "kalman" => kalman::design(exp, filter)?,
         "minimax" => minimax::design(exp, filter)?,
         "hinf" => hinf_lambda::design(exp, filter)?,
+        "h2" => h2::design(exp, filter)?,
         other => unreachable!("family `{other}` passed validation but has no design procedure"),
     };
     d.realization.check(&filter.name, &exp.plant, exp.pattern)?;

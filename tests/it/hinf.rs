@@ -172,3 +172,22 @@ fn operator_and_sdp_norms_agree() {
         eprintln!("norm² λmax {a:.9} SDP {b:.9} ({it} iterations, {secs:.3} s, N = {})", e.plant.horizon);
     }
 }
+
+/// Theorem 3.1 for the generalized H2 filter: at every step the worst gain of e_z[t] over inputs up
+/// to t, λmax(Ψ_t K Ψ_tᵀ) from the stacked operator, equals λmax(Cz P2[t] Czᵀ) (1e-9 relative).
+#[test]
+fn h2_worst_gain_per_step_is_lambda_max_of_cz_p2_czt() {
+    let exp = load(10);
+    let pl = &exp.plant;
+    let p2 = filterbench::families::h2::riccati(pl, &exp.nominal);
+    let r = kalman(pl, &exp.nominal, Pattern::Prediction);
+    let psi = hinf::operator_with(pl, &r, hinf::Terminal::Output).unwrap();
+    let k = hinf::input_weight(pl, &exp.nominal);
+    let nz = pl.nz();
+    for t in 0..pl.steps() {
+        let pt = psi.rows(t * nz, nz);
+        let a = (pt * &k * pt.transpose()).symmetric_eigenvalues().max();
+        let b = (&pl.cz * &p2[t] * pl.cz.transpose()).symmetric_eigenvalues().max();
+        assert!((a - b).abs() <= 1e-9 * b, "step {t}: operator {a} vs Cz P2 Czᵀ {b}");
+    }
+}

@@ -1,0 +1,68 @@
+//! The generalized H2 filter (seed 002 eqs (5.6)–(5.7), SPEC §4; docs/seed002_notes.md): the Kalman
+//! predictor for the weights R = cov x0, G = cov w with the noise split (5.5),
+//!
+//!     P2[t+1] = A (P2⁻¹ + Cᵀ G_D⁻¹ C)⁻¹ Aᵀ + G_B,   P2[0] = R,   Θ* = A P2 Cᵀ (C P2 Cᵀ + G_D)⁻¹,
+//!
+//! (computed here in the equivalent covariance form, without inverting P2). Theorem 3.1 applied to
+//! the error system (5.3): at every step t and for every input, random or not,
+//! e_z[t]ᵀ (Cz P2[t] Czᵀ)⁻¹ e_z[t] ≤ |x0 − E x0|²_R + Σ_{k<t} |w[k]|²_G, i.e. the error lies in the
+//! ellipsoid of Cz P2[t] Czᵀ scaled by the input energy so far, and the worst gain is
+//! λmax(Cz P2[t] Czᵀ).
+
+use serde::Deserialize;
+
+use super::hinf_lambda::check_setting;
+use super::kalman::kalman;
+use super::{Design, Guarantee, PerTrialBound};
+use crate::error::Result;
+use crate::exact;
+use crate::linalg::{Mat, psd_pinv, symmetrize};
+use crate::plant::{Covariances, Plant};
+use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {}
+
+/// P2[t] for t = 0..N.
+pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
+    let w = weights.w();
+    let gb = &plant.b * &w * plant.b.transpose();
+    let mut p = weights.x0().clone();
+    let mut out = Vec::with_capacity(plant.steps());
+    for t in 0..plant.steps() {
+        out.push(p.clone());
+        let (c, d) = (plant.c_at(t), plant.d_at(t));
+        let s = c * &p * c.transpose() + d * &w * d.transpose();
+        let k = &plant.a * &p * c.transpose() * psd_pinv(&s);
+        p = symmetrize(&(&plant.a * &p * plant.a.transpose() + &gb - &k * &s * k.transpose()));
+    }
+    out
+}
+
+pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
+    let _: Params = family_params(filter)?;
+    check_setting(exp, &format!("filters.{}", filter.name), &None)?;
+    let p2 = riccati(&exp.plant, &exp.nominal);
+    let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&exp.plant.cz * p * exp.plant.cz.transpose()))).collect();
+    let level = p2
+        .iter()
+        .map(|p| symmetrize(&(&exp.plant.cz * p * exp.plant.cz.transpose())).symmetric_eigenvalues().max())
+        .fold(0.0, f64::max);
+    let realization = kalman(&exp.plant, &exp.nominal, Pattern::Prediction);
+    let at_design = exact::error(&exp.plant, &realization, &exp.nominal);
+    let mut diagnostics = serde_json::Map::new();
+    diagnostics.insert("h2_level".into(), level.into());
+    Ok(Design {
+        realization,
+        guarantee: Some(Guarantee {
+            kind: "exact_at_design".into(),
+            total: at_design.total,
+            per_step: at_design.per_step,
+        }),
+        design_covariance: Some(exp.nominal.clone()),
+        trace: Vec::new(),
+        diagnostics,
+        per_trial: Some(PerTrialBound::Ellipsoid { weights }),
+    })
+}
