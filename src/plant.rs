@@ -1,7 +1,8 @@
 //! The plant of SPEC §0 on a finite horizon k = 0..N:
 //!
 //!     x[k+1] = A x[k] + B w[k] + r[k],   x[0] ~ (x0_mean, S_x0)
-//!     y[k]   = C x[k] + D w[k]            (no measurement before `first_measurement`)
+//!     y[k]   = C[k] x[k] + D w[k]         (no measurement before `first_measurement`; C[k] = C
+//!                                          unless the file gives one matrix per step)
 //!     z[k]   = Cz x[k] + Dz w[k]
 //!
 //! `w` stacks named noise blocks (seed 000: `w = (ε, w_meas)`, `B = [b 0]`, `D = [0 d]`); each block
@@ -28,6 +29,9 @@ pub struct Plant {
     pub noise_blocks: Vec<(String, usize)>,
     /// The summed error J counts steps k ≥ sum_from (seed 000 sums n = 1..N; default 0).
     pub sum_from: usize,
+    /// Time-varying measurement matrices C[k], k = 0..N (regressors Φ[k] of seed 002 §5), or empty
+    /// when C is constant.
+    pub c_steps: Vec<Mat>,
     c_none: Mat,
     d_none: Mat,
 }
@@ -62,6 +66,7 @@ impl Plant {
             known_input,
             noise_blocks,
             sum_from: 0,
+            c_steps: Vec::new(),
             c_none,
             d_none,
         }
@@ -90,7 +95,11 @@ impl Plant {
     }
     /// C[k]: zero before the first measurement.
     pub fn c_at(&self, k: usize) -> &Mat {
-        if self.measured(k) { &self.c } else { &self.c_none }
+        match (self.measured(k), self.c_steps.get(k)) {
+            (false, _) => &self.c_none,
+            (true, Some(c)) => c,
+            (true, None) => &self.c,
+        }
     }
     /// D[k]: zero before the first measurement.
     pub fn d_at(&self, k: usize) -> &Mat {

@@ -63,6 +63,7 @@ struct PlantFile {
     first_measurement: usize,
     #[serde(default)]
     sum_from: usize,
+    C_steps: Option<Vec<Rows>>,
     known_input: Option<KnownInputFile>,
 }
 
@@ -537,6 +538,19 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
     }
     let mut plant = Plant::new(p.horizon, a, b, c, d, cz, dz, x0_mean, p.first_measurement, known_input, dims);
     plant.sum_from = p.sum_from;
+    if let Some(steps) = &p.C_steps {
+        if steps.len() != p.horizon + 1 {
+            return Err(Error::invalid(
+                "plant.C_steps",
+                format!("expected one matrix per step k = 0..N ({}), found {}", p.horizon + 1, steps.len()),
+            ));
+        }
+        plant.c_steps = steps
+            .iter()
+            .enumerate()
+            .map(|(k, r)| from_rows(&format!("plant.C_steps[{k}]"), r, Some((ny, n))))
+            .collect::<Result<_>>()?;
+    }
     let nominal = Covariances { blocks };
 
     let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();

@@ -170,3 +170,13 @@ fn bad_disturbances() {
     );
     fails_cleanly(&t, &["scenarios.nominal_laplace.disturbance", "no [disturbances]"]);
 }
+
+#[test]
+fn time_varying_c_of_the_wrong_length_or_size() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_regression.toml")).unwrap();
+    let t = text.replace("horizon = 60", "horizon = 59");
+    fails_cleanly(&t, &["plant.C_steps", "one matrix per step"]);
+    let t = text.replacen("[[1.0, 0.000000, 1.000000]]", "[[1.0, 0.000000]]", 1);
+    fails_cleanly(&t, &["plant.C_steps[0]", "1×3"]);
+}
