@@ -49,6 +49,7 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.ci_low.push(lo);
             c.ci_high.push(hi);
             c.exact.push(Some(sc.exact[f].total));
+            c.exact_terminal.push(sc.exact[f].per_step.last().copied());
             c.guaranteed.push(d.design.guarantee.as_ref().map(|g| g.total));
             c.guarantee_kind.push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
@@ -76,6 +77,7 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             col("ci_low", c.ci_low),
             col("ci_high", c.ci_high),
             col("exact", c.exact),
+            col("exact_terminal", c.exact_terminal),
             col("guaranteed", c.guaranteed),
             col("guarantee_kind", c.guarantee_kind),
             col("worst_case", c.worst_case),
@@ -106,6 +108,7 @@ struct SummaryCols {
     ci_low: Vec<f64>,
     ci_high: Vec<f64>,
     exact: Vec<Option<f64>>,
+    exact_terminal: Vec<Option<f64>>,
     guaranteed: Vec<Option<f64>>,
     guarantee_kind: Vec<Option<String>>,
     worst_case: Vec<Option<f64>>,
