@@ -10,6 +10,7 @@ use crate::exact::{Augmented, augmented};
 use crate::linalg::{Mat, Vector, block_diag, psd_factor};
 use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
+use crate::solve::conic::Conic;
 
 /// What the last block of rows of Ψ holds.
 pub enum Terminal<'a> {
@@ -124,9 +125,6 @@ pub fn norm(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -
 ///
 /// Independent of [`norm`]: no operator is formed. Returns (λ*, clarabel's iterations, seconds).
 pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, u32, f64)> {
-    use clarabel::algebra::CscMatrix;
-    use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
-
     let (n, nw, nz, nn) = (plant.nx(), plant.nw(), plant.nz(), plant.horizon);
     for (t, g) in real.steps.iter().enumerate() {
         let predictor = (&g.af - (&plant.a - &g.bf * plant.c_at(t))).amax() < 1e-12
@@ -144,8 +142,7 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     let g_inv = crate::linalg::psd_pinv(&weights.w());
     let s_half = psd_factor(s).transpose();
     let tri = n * (n + 1) / 2;
-    let nvar = nn * tri + 1;
-    let lam = nvar - 1;
+    let lam = nn * tri;
     // Variable (t, i, j), t = 1..N: X[t]_{ij} = X[t]_{ji}.
     let var = |t: usize, i: usize, j: usize| (t - 1) * tri + j * (j + 1) / 2 + i;
     let unit = |i: usize, j: usize| {
@@ -154,33 +151,13 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
         e[(j, i)] = 1.0;
         e
     };
-    let (mut ri, mut ci, mut v, mut b, mut cones) = (vec![], vec![], vec![], vec![], vec![]);
-    let mut row = 0usize;
-    // Appends the constraint C + Σ x_k M_k ⪰ 0 (clarabel: s = b − A x ∈ PSD, svec with √2).
-    let mut add_psd = |c: Mat, terms: Vec<(usize, Mat)>| {
-        let m = c.nrows();
-        let idx: Vec<(usize, usize)> = (0..m).flat_map(|j| (0..=j).map(move |i| (i, j))).collect();
-        let sc = |i: usize, j: usize| if i == j { 1.0 } else { std::f64::consts::SQRT_2 };
-        for (r, &(i, j)) in idx.iter().enumerate() {
-            b.push(sc(i, j) * c[(i, j)]);
-            for (k, mk) in &terms {
-                let val = mk[(i, j)];
-                if val != 0.0 {
-                    ri.push(row + r);
-                    ci.push(*k);
-                    v.push(-sc(i, j) * val);
-                }
-            }
-        }
-        row += idx.len();
-        cones.push(SupportedConeT::PSDTriangleConeT(m));
-    };
+    let mut program = Conic::default();
     let d = n + nw + nz;
     for t in 0..nn {
         let th = &real.steps[t].bf;
         let ac = &plant.a - th * plant.c_at(t);
         let bc = &plant.b - th * plant.d_at(t);
-        // −(LMI) ⪰ 0: constant part and the coefficient of every variable.
+        // −(LMI) ⪰ 0: its constant part and the coefficient of every variable.
         let mut c = Mat::zeros(d, d);
         c.view_mut((n, n), (nw, nw)).copy_from(&g_inv);
         c.view_mut((0, n + nw), (n, nz)).copy_from(&(-plant.cz.transpose()));
@@ -208,7 +185,7 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
         let mut m = Mat::zeros(d, d);
         m.view_mut((n + nw, n + nw), (nz, nz)).fill_with_identity();
         terms.push((lam, m));
-        add_psd(c, terms);
+        program.psd(&c, &terms);
     }
     // Terminal: [[X[N], S^½], [S^½ᵀ, λI]] ⪰ 0.
     let mut c = Mat::zeros(2 * n, 2 * n);
@@ -225,27 +202,11 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     let mut m = Mat::zeros(2 * n, 2 * n);
     m.view_mut((n, n), (n, n)).fill_with_identity();
     terms.push((lam, m));
-    add_psd(c, terms);
+    program.psd(&c, &terms);
 
-    let mut cost = vec![0.0; nvar];
+    let mut cost = vec![0.0; lam + 1];
     cost[lam] = 1.0;
-    let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, v);
-    let p = CscMatrix::zeros((nvar, nvar));
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .tol_gap_abs(1e-10)
-        .tol_gap_rel(1e-10)
-        .tol_feas(1e-10)
-        .max_iter(500)
-        .max_threads(1)
-        .build()
-        .map_err(|e| Error::invalid("hinf", format!("clarabel settings: {e}")))?;
-    let mut solver = DefaultSolver::new(&p, &cost, &a, &b, &cones, settings)
-        .map_err(|e| Error::invalid("hinf", format!("clarabel setup: {e:?}")))?;
-    solver.solve();
-    let sol = &solver.solution;
-    match sol.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok((sol.x[lam], sol.iterations, sol.solve_time)),
-        st => Err(Error::invalid("hinf", format!("the SDP (4.7) was not solved: clarabel status {st:?}"))),
-    }
+    let sol =
+        program.minimize(&cost).map_err(|e| Error::invalid("hinf", format!("the SDP (4.7) was not solved: {e}")))?;
+    Ok((sol.x[lam], sol.iterations, sol.seconds))
 }

@@ -12,10 +12,9 @@
 use serde::Deserialize;
 
 use super::hinf_lambda::check_setting;
-use super::kalman::kalman;
-use super::{Design, Guarantee, PerTrialBound};
+use super::kalman::design_at;
+use super::{Design, PerTrialBound};
 use crate::error::Result;
-use crate::exact;
 use crate::linalg::{Mat, psd_pinv, symmetrize};
 use crate::plant::{Covariances, Plant};
 use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
@@ -49,20 +48,8 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         .iter()
         .map(|p| symmetrize(&(&exp.plant.cz * p * exp.plant.cz.transpose())).symmetric_eigenvalues().max())
         .fold(0.0, f64::max);
-    let realization = kalman(&exp.plant, &exp.nominal, Pattern::Prediction);
-    let at_design = exact::error(&exp.plant, &realization, &exp.nominal);
-    let mut diagnostics = serde_json::Map::new();
-    diagnostics.insert("h2_level".into(), level.into());
-    Ok(Design {
-        realization,
-        guarantee: Some(Guarantee {
-            kind: "exact_at_design".into(),
-            total: at_design.total,
-            per_step: at_design.per_step,
-        }),
-        design_covariance: Some(exp.nominal.clone()),
-        trace: Vec::new(),
-        diagnostics,
-        per_trial: Some(PerTrialBound::Ellipsoid { weights }),
-    })
+    let mut design = design_at(&exp.plant, exp.nominal.clone(), Pattern::Prediction);
+    design.diagnostics.insert("h2_level".into(), level.into());
+    design.per_trial = Some(PerTrialBound::Ellipsoid { weights });
+    Ok(design)
 }

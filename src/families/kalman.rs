@@ -39,9 +39,14 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     }
     let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
     let cov = choice.covariances(&key, exp, None)?;
-    let realization = kalman(&exp.plant, &cov, exp.pattern);
-    let at_design = exact::error(&exp.plant, &realization, &cov);
-    Ok(Design {
+    Ok(design_at(&exp.plant, cov, exp.pattern))
+}
+
+/// The Kalman filter designed at `cov`, with its guarantee: its exact error at `cov`.
+pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
+    let realization = kalman(plant, &cov, pattern);
+    let at_design = exact::error(plant, &realization, &cov);
+    Design {
         realization,
         guarantee: Some(Guarantee {
             kind: "exact_at_design".into(),
@@ -52,7 +57,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         trace: Vec::new(),
         diagnostics: Default::default(),
         per_trial: None,
-    })
+    }
 }
 
 /// The Kalman filter of `plant` for the covariances `cov`, as a realization (module docs).

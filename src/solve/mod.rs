@@ -1,5 +1,6 @@
 //! Numerical building blocks for the design procedures: clarabel conic programs over symmetric
 //! matrices ([`sdp`]) and a maximizer of concave functions on an interval ([`line`]).
 
+pub mod conic;
 pub mod line;
 pub mod sdp;
