@@ -2,6 +2,7 @@
 //! to one linear [`realization::Realization`]; the exact analysis ([`exact`]) and the Monte Carlo
 //! engine ([`montecarlo`]) are generic over it. See the README for the picture.
 
+pub mod anisotropy;
 pub mod bench;
 pub mod disturbance;
 pub mod error;
