@@ -6,6 +6,8 @@
 //!   estimate of each component of z;
 //! - `design/<filter>/{objective, gap, step}` on the `iteration` timeline: iterative designs
 //!   (minimax: I(K(s)), δ(s), τ(s));
+//! - `compare/<scenario>/{empirical_summed, exact_summed, exact_terminal}` on the `filter` timeline
+//!   (filter index in the file's order): every filter of a scenario side by side;
 //! - `summary`: one text line per (scenario, filter) with the summed figures.
 
 use std::path::Path;
@@ -62,6 +64,20 @@ pub fn write(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
             rec.log(format!("{base}/objective"), &rerun::Scalars::single(r.objective)).map_err(|e| err(&e))?;
             rec.log(format!("{base}/gap"), &rerun::Scalars::single(r.gap)).map_err(|e| err(&e))?;
             rec.log(format!("{base}/step"), &rerun::Scalars::single(r.step)).map_err(|e| err(&e))?;
+        }
+    }
+    // Across filters, in the file's order (for hinf_tradeoff: λ from λ_min up to ∞): the summed and
+    // terminal errors side by side, the trade-off seed 002 describes.
+    for sc in &out.scenarios {
+        let base = format!("compare/{}", part(&sc.name));
+        for (f, _) in exp.filters.iter().enumerate() {
+            rec.set_time_sequence("filter", f as i64);
+            let (st, ex) = (&sc.mc.filters[f].total, &sc.exact[f]);
+            rec.log(format!("{base}/empirical_summed"), &rerun::Scalars::single(st.mean)).map_err(|e| err(&e))?;
+            rec.log(format!("{base}/exact_summed"), &rerun::Scalars::single(ex.total)).map_err(|e| err(&e))?;
+            if let Some(last) = ex.per_step.last() {
+                rec.log(format!("{base}/exact_terminal"), &rerun::Scalars::single(*last)).map_err(|e| err(&e))?;
+            }
         }
     }
     rec.reset_time();
