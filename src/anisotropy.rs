@@ -8,7 +8,7 @@
 //! (a → 0) to ‖F‖∞ = sqrt(λmax(Λ)) (a → ∞).
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, symmetrize};
+use crate::linalg::{Mat, sym_eigen, symmetrize};
 
 /// A(W) = −½ ln det(m Σ / tr Σ) for W ~ N(0, Σ) (Σ positive definite).
 pub fn gaussian_anisotropy(sigma: &Mat) -> f64 {
@@ -72,23 +72,11 @@ pub fn anisotropic_norm_from_eigenvalues(mu: &[f64], a: f64) -> Result<Anisotrop
     Ok(AnisotropicNorm { value: gain_at(mu, q), q })
 }
 
-/// Eigen-decomposition of a symmetric PSD Λ with faer (used once per system; Λ is lw × lw).
-pub fn eigen(lambda: &Mat) -> Result<(Vec<f64>, Mat)> {
-    let m = lambda.nrows();
-    let s = symmetrize(lambda);
-    let fm = faer::Mat::<f64>::from_fn(m, m, |i, j| s[(i, j)]);
-    let evd = fm
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| Error::invalid("anisotropy", format!("eigendecomposition failed: {e:?}")))?;
-    let mu: Vec<f64> = (0..m).map(|i| evd.S().column_vector()[i].max(0.0)).collect();
-    let v = Mat::from_fn(m, m, |i, j| evd.U()[(i, j)]);
-    Ok((mu, v))
-}
-
 /// |||F|||_a for Λ = E[FᵀF], and the worst input covariance Σ(q) = (I − qΛ)⁻¹ (scaled to unit trace
 /// per component, tr Σ = lw).
 pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> {
-    let (mu, v) = eigen(lambda)?;
+    let (values, v) = sym_eigen(lambda)?;
+    let mu: Vec<f64> = values.iter().map(|m| m.max(0.0)).collect();
     let norm = anisotropic_norm_from_eigenvalues(&mu, a)?;
     let d: Vec<f64> = mu.iter().map(|m| 1.0 / (1.0 - norm.q * m).max(f64::MIN_POSITIVE)).collect();
     let tr: f64 = d.iter().sum();

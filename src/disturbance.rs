@@ -8,8 +8,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
-use crate::error::{Error, Result};
-use crate::linalg::{Mat, Vector, psd_factor};
+use crate::error::Result;
+use crate::linalg::{Mat, psd_factor, top_eigen};
 use crate::plant::Plant;
 use crate::realization::Realization;
 
@@ -135,14 +135,8 @@ pub fn worst(plant: &Plant, real: &Realization, dist: &[Option<Disturbance>]) ->
             t.view_mut((k * m, k * m), (m, m)).copy_from(&winv_half);
         }
         let lt = &l * &t;
-        let gram = lt.transpose() * &lt;
-        let fm = faer::Mat::<f64>::from_fn(gram.nrows(), gram.ncols(), |i, j| gram[(i, j)]);
-        let evd = fm
-            .self_adjoint_eigen(faer::Side::Lower)
-            .map_err(|e| Error::invalid("disturbances", format!("eigendecomposition failed: {e:?}")))?;
-        let top = gram.nrows() - 1;
-        let u = Vector::from_fn(gram.nrows(), |i, _| evd.U()[(i, top)] * d.energy.sqrt());
-        let seq = &t * u;
+        let (_, u) = top_eigen(&(lt.transpose() * &lt))?;
+        let seq = &t * u * d.energy.sqrt();
         let mut wm = Mat::zeros(plant.nw(), steps);
         for k in 0..steps {
             wm.view_mut((o, k), (m, 1)).copy_from(&seq.rows(k * m, m));

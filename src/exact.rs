@@ -199,9 +199,6 @@ pub fn worst_case(
             argmax.blocks[i] = s;
         }
     }
-    let psd = argmax
-        .blocks
-        .iter()
-        .all(|m| crate::linalg::min_eigenvalue(m) >= -crate::linalg::PSD_TOL * m.amax().max(1e-300));
+    let psd = argmax.blocks.iter().all(crate::linalg::is_psd);
     Ok(Some(WorstCase { total, argmax, psd, disturbance: None }))
 }

@@ -7,7 +7,7 @@
 
 use crate::error::{Error, Result};
 use crate::exact::{Augmented, augmented};
-use crate::linalg::{Mat, Vector, block_diag, psd_factor};
+use crate::linalg::{Mat, Vector, block_diag, psd_factor, top_eigen};
 use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
 use crate::solve::conic::Conic;
@@ -105,14 +105,7 @@ pub fn norm(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -
     let psi = operator(plant, real, s)?;
     let k_half = psd_factor(&input_weight(plant, weights));
     let a = &psi * &k_half;
-    let gram = a.transpose() * &a;
-    let m = gram.nrows();
-    let fm = faer::Mat::<f64>::from_fn(m, m, |i, j| gram[(i, j)]);
-    let evd = fm
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| Error::invalid("hinf", format!("eigendecomposition failed: {e:?}")))?;
-    let top = evd.S().column_vector()[m - 1];
-    let v = Vector::from_fn(m, |i, _| evd.U()[(i, m - 1)]);
+    let (top, v) = top_eigen(&(a.transpose() * &a))?;
     Ok((top, k_half * v))
 }
 

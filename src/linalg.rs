@@ -116,3 +116,28 @@ pub fn block_diag(blocks: &[&Mat]) -> Mat {
 pub fn frob_dot(a: &Mat, b: &Mat) -> f64 {
     a.component_mul(b).sum()
 }
+
+/// Whether a symmetric matrix is PSD to `PSD_TOL` relative to its largest entry.
+pub fn is_psd(m: &Mat) -> bool {
+    min_eigenvalue(m) >= -PSD_TOL * m.amax().max(1.0)
+}
+
+/// Eigendecomposition of a symmetric matrix with faer (for the large ones: stacked operators over
+/// the horizon): eigenvalues in nondecreasing order and the eigenvectors as columns.
+pub fn sym_eigen(m: &Mat) -> Result<(Vec<f64>, Mat)> {
+    let n = m.nrows();
+    let s = symmetrize(m);
+    let fm = faer::Mat::<f64>::from_fn(n, n, |i, j| s[(i, j)]);
+    let evd = fm
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| Error::invalid("eigendecomposition", format!("faer failed: {e:?}")))?;
+    let values = (0..n).map(|i| evd.S().column_vector()[i]).collect();
+    Ok((values, Mat::from_fn(n, n, |i, j| evd.U()[(i, j)])))
+}
+
+/// The largest eigenvalue of a symmetric PSD matrix and a unit eigenvector for it ([`sym_eigen`]).
+pub fn top_eigen(m: &Mat) -> Result<(f64, Vector)> {
+    let (values, vectors) = sym_eigen(m)?;
+    let top = values.len() - 1;
+    Ok((values[top], vectors.column(top).into_owned()))
+}

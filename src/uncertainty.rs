@@ -8,7 +8,7 @@ use rand::Rng;
 use rand_distr::{Distribution, StandardNormal, Uniform};
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, PSD_TOL, frob_dot, min_eigenvalue, psd_factor, symmetrize};
+use crate::linalg::{Mat, PSD_TOL, frob_dot, is_psd, min_eigenvalue, psd_factor, symmetrize};
 use crate::solve::sdp::{SymConstraints, max_linear};
 
 #[derive(Clone, Debug)]
@@ -26,10 +26,6 @@ pub struct CovSet {
     pub shape: SetShape,
     /// Intersected with the PSD cone (a real covariance must be PSD; seed 000's examples ignore it).
     pub psd: bool,
-}
-
-fn is_psd(m: &Mat) -> bool {
-    min_eigenvalue(m) >= -PSD_TOL * m.amax().max(1.0)
 }
 
 impl CovSet {
