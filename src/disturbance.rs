@@ -27,15 +27,31 @@ impl Disturbance {
     }
 }
 
-/// Which disturbance sequence a scenario applies.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum DisturbanceChoice {
+/// Which disturbance sequence a scenario applies. `F` refers to a filter: its name as written in
+/// the file, its index once resolved.
+#[derive(Clone, Debug, Default, PartialEq, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DisturbanceChoice<F = usize> {
     #[default]
     None,
     /// A random direction for every disturbance block, scaled onto its energy bound.
     Random { seed: u64 },
     /// The sequence that maximizes the named filter's error.
-    WorstFor { filter: usize },
+    WorstFor { filter: F },
+}
+
+impl<F> DisturbanceChoice<F> {
+    /// The same choice with its filter reference mapped (name → index).
+    pub fn map_filter<G, E>(
+        self,
+        f: impl FnOnce(F) -> std::result::Result<G, E>,
+    ) -> std::result::Result<DisturbanceChoice<G>, E> {
+        Ok(match self {
+            DisturbanceChoice::None => DisturbanceChoice::None,
+            DisturbanceChoice::Random { seed } => DisturbanceChoice::Random { seed },
+            DisturbanceChoice::WorstFor { filter } => DisturbanceChoice::WorstFor { filter: f(filter)? },
+        })
+    }
 }
 
 /// Per-step mean of w: column k is the deterministic part of w[k] (zero outside disturbance blocks).

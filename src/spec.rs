@@ -120,43 +120,43 @@ struct ScenarioFile {
     #[serde(default)]
     shape: Shape,
     #[serde(default)]
-    disturbance: DisturbanceChoiceFile,
+    disturbance: DisturbanceChoice<String>,
     #[serde(default)]
-    input: InputFile,
-}
-
-#[derive(Deserialize, Default)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-enum InputFile {
-    #[default]
-    Independent,
-    EllipsoidSurface,
-    EllipsoidInterior,
-    RandomCovariance {
-        seed: u64,
-    },
-    EllipsoidWorstFor {
-        filter: String,
-    },
+    input: Input<String>,
 }
 
 /// How a scenario's inputs are drawn: block by block and white in time (the default), or jointly
-/// over the horizon as ξ = col(x0 − E x0, w[0..N−1]) (seed 002's setting; w[N] = 0).
-#[derive(Clone, Debug, PartialEq)]
-pub enum InputChoice {
+/// over the horizon as ξ = col(x0 − E x0, w[0..N−1]) (seed 002's setting; w[N] = 0). `F` refers to
+/// a filter: its name as written in the file, its index once resolved.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Input<F> {
+    #[default]
     Independent,
     /// Uniform on the surface of the ellipsoid ξᵀK⁻¹ξ = 1, K = blockdiag(nominal x0, nominal w, …).
     EllipsoidSurface,
     /// Uniform inside that ellipsoid.
     EllipsoidInterior,
     /// ξ ~ (0, Σ) with Σ a random full covariance (fixed by the seed), E[ξᵀK⁻¹ξ] = dim.
-    RandomCovariance {
-        seed: u64,
-    },
+    RandomCovariance { seed: u64 },
     /// The worst input on the ellipsoid for the named filter (the top eigenvector of ΨKΨᵀ).
-    EllipsoidWorstFor {
-        filter: usize,
-    },
+    EllipsoidWorstFor { filter: F },
+}
+
+/// A resolved [`Input`].
+pub type InputChoice = Input<usize>;
+
+impl<F> Input<F> {
+    /// The same choice with its filter reference mapped (name → index).
+    fn map_filter<G>(self, f: impl FnOnce(F) -> Result<G>) -> Result<Input<G>> {
+        Ok(match self {
+            Input::Independent => Input::Independent,
+            Input::EllipsoidSurface => Input::EllipsoidSurface,
+            Input::EllipsoidInterior => Input::EllipsoidInterior,
+            Input::RandomCovariance { seed } => Input::RandomCovariance { seed },
+            Input::EllipsoidWorstFor { filter } => Input::EllipsoidWorstFor { filter: f(filter)? },
+        })
+    }
 }
 
 /// An energy-bounded deterministic disturbance block (seed 000 eq (36)).
@@ -165,19 +165,6 @@ pub enum InputChoice {
 struct DisturbanceFile {
     weight: Rows,
     energy: f64,
-}
-
-#[derive(Deserialize, Default)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-enum DisturbanceChoiceFile {
-    #[default]
-    None,
-    Random {
-        seed: u64,
-    },
-    WorstFor {
-        filter: String,
-    },
 }
 
 /// A covariance choice as written in a file (`{ kind = …, … }`); see [`CovChoice`].
@@ -618,33 +605,26 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         let key = format!("scenarios.{}.covariance", s.name);
         let covariance = CovChoice::resolve(&key, &s.covariance, &plant, &nominal, has_sets, &filters)?;
         s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
-        let dkey = format!("scenarios.{}.disturbance", s.name);
-        let has_dist = disturbances.iter().any(Option::is_some);
-        let disturbance = match s.disturbance {
-            DisturbanceChoiceFile::None => DisturbanceChoice::None,
-            _ if !has_dist => return Err(Error::invalid(dkey, "the plant has no [disturbances] block")),
-            DisturbanceChoiceFile::Random { seed } => DisturbanceChoice::Random { seed },
-            DisturbanceChoiceFile::WorstFor { filter } => DisturbanceChoice::WorstFor {
-                filter: filters.iter().position(|x| x.name == filter).ok_or_else(|| {
-                    Error::invalid(format!("{dkey}.filter"), format!("no filter named `{filter}` in this experiment"))
-                })?,
-            },
-        };
-        let ikey = format!("scenarios.{}.input", s.name);
-        let input = match s.input {
-            InputFile::Independent => InputChoice::Independent,
-            _ if !matches!(covariance, CovChoice::Nominal) || disturbance != DisturbanceChoice::None => {
-                return Err(Error::invalid(ikey, "a joint input replaces `covariance` and `disturbance`: remove them"));
+        let filters = &filters;
+        let index_of = |key: String| {
+            move |name: String| {
+                filters.iter().position(|x| x.name == name).ok_or_else(|| {
+                    Error::invalid(format!("{key}.filter"), format!("no filter named `{name}` in this experiment"))
+                })
             }
-            InputFile::EllipsoidSurface => InputChoice::EllipsoidSurface,
-            InputFile::EllipsoidInterior => InputChoice::EllipsoidInterior,
-            InputFile::RandomCovariance { seed } => InputChoice::RandomCovariance { seed },
-            InputFile::EllipsoidWorstFor { filter } => InputChoice::EllipsoidWorstFor {
-                filter: filters.iter().position(|x| x.name == filter).ok_or_else(|| {
-                    Error::invalid(format!("{ikey}.filter"), format!("no filter named `{filter}` in this experiment"))
-                })?,
-            },
         };
+        let dkey = format!("scenarios.{}.disturbance", s.name);
+        if s.disturbance != DisturbanceChoice::None && !disturbances.iter().any(Option::is_some) {
+            return Err(Error::invalid(dkey, "the plant has no [disturbances] block"));
+        }
+        let disturbance = s.disturbance.map_filter(index_of(dkey))?;
+        let ikey = format!("scenarios.{}.input", s.name);
+        if s.input != Input::Independent
+            && (!matches!(covariance, CovChoice::Nominal) || disturbance != DisturbanceChoice::None)
+        {
+            return Err(Error::invalid(ikey, "a joint input replaces `covariance` and `disturbance`: remove them"));
+        }
+        let input = s.input.map_filter(index_of(ikey))?;
         scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance, input });
     }
     if f.sample_trajectories > f.trials {

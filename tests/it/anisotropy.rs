@@ -51,8 +51,7 @@ fn norm_limits_monotonicity_and_worst_covariance() {
         check(&random(12, 20, seed), &format!("random F {seed}"));
     }
     // A filter's error operator over the horizon (hinf_tradeoff's Kalman predictor).
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_tradeoff.toml");
-    let exp = filterbench::spec::load(std::path::Path::new(path)).unwrap();
+    let exp = crate::common::load("hinf_tradeoff", 10);
     let r = filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::spec::Pattern::Prediction);
     let psi = filterbench::hinf::operator_with(&exp.plant, &r, filterbench::hinf::Terminal::Output).unwrap();
     check(&psi, "Kalman predictor error operator");

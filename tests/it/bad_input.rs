@@ -7,7 +7,7 @@ use std::process::Command;
 const BIN: &str = env!("CARGO_BIN_EXE_filterbench");
 
 fn baseline_text() -> String {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml")).unwrap()
+    crate::common::text("kalman_baseline")
 }
 
 /// Runs `experiment FILE --out DIR` where DIR already holds a previous result, and checks the run
@@ -105,7 +105,7 @@ fn unwritable_output_folder() {
 }
 
 fn minimax_box_text() -> String {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/minimax_box.toml")).unwrap()
+    crate::common::text("minimax_box")
 }
 
 #[test]
@@ -151,8 +151,7 @@ fn minimax_without_a_set() {
 
 #[test]
 fn bad_disturbances() {
-    let text =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/minimax_energy.toml")).unwrap();
+    let text = crate::common::text("minimax_energy");
     let t = text.replace(
         "[disturbances.u]\nweight = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
         "[disturbances.u]\nweight = [[1, 0, 0], [0, 0, 0], [0, 0, 1]]",
@@ -173,8 +172,7 @@ fn bad_disturbances() {
 
 #[test]
 fn time_varying_c_of_the_wrong_length_or_size() {
-    let text =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_regression.toml")).unwrap();
+    let text = crate::common::text("hinf_regression");
     let t = text.replace("horizon = 60", "horizon = 59");
     fails_cleanly(&t, &["plant.C_steps", "one matrix per step"]);
     let t = text.replacen("[[1.0, 0.000000, 1.000000]]", "[[1.0, 0.000000]]", 1);

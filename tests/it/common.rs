@@ -2,12 +2,22 @@
 
 use filterbench::spec::{self, Experiment};
 
-/// The shipped `kalman_baseline` experiment with `trials` trials.
-pub fn baseline(trials: usize) -> Experiment {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/kalman_baseline.toml");
-    let mut e = spec::load(std::path::Path::new(path)).expect("kalman_baseline parses");
+/// The text of the shipped experiment file `name`.
+pub fn text(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// The shipped experiment `name` with `trials` trials.
+pub fn load(name: &str, trials: usize) -> Experiment {
+    let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let mut e = spec::load(std::path::Path::new(&path)).unwrap_or_else(|err| panic!("{name} parses: {err}"));
     e.trials = trials;
     e
+}
+
+/// The shipped `kalman_baseline` experiment with `trials` trials.
+pub fn baseline(trials: usize) -> Experiment {
+    load("kalman_baseline", trials)
 }
 
 /// A small plant that exercises what kalman_baseline does not: prediction, noise shared between

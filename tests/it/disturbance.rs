@@ -5,13 +5,10 @@
 use filterbench::disturbance::{self, energy};
 use filterbench::exact;
 use filterbench::run;
-use filterbench::spec::{self, Experiment};
+use filterbench::spec::Experiment;
 
 fn load(trials: usize) -> Experiment {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/minimax_energy.toml");
-    let mut e = spec::load(std::path::Path::new(path)).unwrap();
-    e.trials = trials;
-    e
+    crate::common::load("minimax_energy", trials)
 }
 
 #[test]

@@ -9,10 +9,7 @@ use filterbench::run;
 use filterbench::spec::{self, Experiment, Pattern};
 
 fn load(trials: usize) -> Experiment {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_tradeoff.toml");
-    let mut e = spec::load(std::path::Path::new(path)).unwrap();
-    e.trials = trials;
-    e
+    crate::common::load("hinf_tradeoff", trials)
 }
 
 /// Gains differ from the Kalman predictor's by O(1/λ): below 1e-6 at λ = 1e8.
@@ -83,7 +80,7 @@ fn monte_carlo_matches_the_exact_error_for_joint_inputs() {
 
 #[test]
 fn too_small_lambda_and_wrong_settings_are_refused() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_tradeoff.toml")).unwrap();
+    let text = crate::common::text("hinf_tradeoff");
     let bad = text.replace("lambda = 7.5", "lambda = 1.0");
     let e = spec::parse("h", "h.toml", &bad).unwrap();
     let err = run::design_all(&e).err().expect("λ = 1 is infeasible").to_string();
@@ -198,9 +195,7 @@ fn h2_worst_gain_per_step_is_lambda_max_of_cz_p2_czt() {
 /// breaks a per-trial bound (4000 trials × 6 scenarios).
 #[test]
 fn regression_rls_and_its_hinf_version() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/hinf_regression.toml");
-    let mut exp = spec::load(std::path::Path::new(path)).unwrap();
-    exp.trials = 4000;
+    let exp = crate::common::load("hinf_regression", 4000);
     let filters = run::design_all(&exp).unwrap();
     let g_inv = 1.0 / exp.nominal.w()[(0, 0)];
     for (name, lambda) in [("rls", f64::INFINITY), ("hinf_60", 60.0)] {

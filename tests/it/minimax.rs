@@ -9,10 +9,7 @@ use filterbench::spec::{self, Experiment};
 use filterbench::uncertainty::SetShape;
 
 fn load(name: &str, trials: usize) -> Experiment {
-    let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut e = spec::load(std::path::Path::new(&path)).unwrap();
-    e.trials = trials;
-    e
+    crate::common::load(name, trials)
 }
 
 fn corner(exp: &Experiment, k: &Covariances) -> Covariances {
@@ -167,8 +164,7 @@ fn guarantee_holds_under_monte_carlo() {
 /// iterating; the clarabel oracle over the interval then confirms a zero gap at it.
 #[test]
 fn largest_element_of_loewner_intervals() {
-    let text =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/minimax_example3.toml")).unwrap();
+    let text = crate::common::text("minimax_example3");
     let sets_start = text.find("[sets.process]").unwrap();
     let sets_end = text.find("[[filters]]").unwrap();
     let loewner = "[sets.process]\nkind = \"loewner\"\nlower = [[0.8, -0.4, 0.2], [-0.4, 0.6, 0.1], [0.2, 0.1, 0.5]]\nupper = [[1.1, -0.4, 0.2], [-0.4, 0.9, 0.1], [0.2, 0.1, 0.8]]\n\n[sets.measurement]\nkind = \"loewner\"\nlower = [[0.4, 0, 0], [0, 0.7, 0], [0, 0, 0.05]]\nupper = [[0.7, 0.1, 0], [0.1, 0.9, 0], [0, 0, 0.2]]\n\n";
