@@ -15,13 +15,14 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let covs = run::scenario_covariances(exp, &filters)?;
     let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
     let sampler = NoiseSampler::new(&exp.plant, &exp.sampling(&covs[0]), &exp.scenarios[0].shape);
+    let ratios = run::ratio_check(exp, &filters);
     let sc = montecarlo::Scenario {
         plant: &exp.plant,
         filters: &reals,
         sampler: &sampler,
         seed: exp.seed,
         index: 0,
-        ratios: run::ratio_check(exp, &filters),
+        ratios: ratios.as_ref(),
     };
     let trials = exp.trials as u64;
     let steps = exp.plant.steps() as f64;

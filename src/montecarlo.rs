@@ -81,7 +81,7 @@ pub struct Scenario<'a> {
     pub seed: u64,
     pub index: usize,
     /// Per-trial ratio checks (seed 002), if any filter has one.
-    pub ratios: Option<RatioCheck<'a>>,
+    pub ratios: Option<&'a RatioCheck<'a>>,
 }
 
 /// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w[k], k < N) and, per filter, its
@@ -235,7 +235,7 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
                 totals[f] += e2;
             }
         });
-        if let Some(rc) = &sc.ratios {
+        if let Some(rc) = sc.ratios {
             check_ratios(rc, ws, plant, &mut st.filters);
         }
         for (acc, v) in st.filters.iter_mut().zip(&totals) {

@@ -132,6 +132,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let design_seconds = start.elapsed().as_secs_f64();
     let covs = scenario_covariances(exp, &filters)?;
     let reals: Vec<&crate::realization::Realization> = filters.iter().map(|f| &f.design.realization).collect();
+    let ratios = ratio_check(exp, &filters);
 
     let total = exp.trials as u64 * exp.scenarios.len() as u64;
     let bar = if show_progress {
@@ -167,7 +168,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             sampler: &sampler,
             seed: exp.seed,
             index: i,
-            ratios: ratio_check(exp, &filters),
+            ratios: ratios.as_ref(),
         };
         let t = Instant::now();
         let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
