@@ -15,7 +15,8 @@ pub fn gaussian_anisotropy(sigma: &Mat) -> f64 {
     let m = sigma.nrows() as f64;
     let tr = sigma.trace();
     let eig = symmetrize(sigma).symmetric_eigenvalues();
-    -0.5 * eig.iter().map(|l| (m * l / tr).ln()).sum::<f64>()
+    // A ≥ 0 (Hadamard/AM–GM); clamp the rounding of white noise's exact zero.
+    (-0.5 * eig.iter().map(|l| (m * l / tr).ln()).sum::<f64>()).max(0.0)
 }
 
 /// Anisotropy of Σ(q) = (I − qΛ)⁻¹ from the eigenvalues μ of Λ.
@@ -84,4 +85,48 @@ pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> 
     let scaled = nalgebra::DVector::from_iterator(d.len(), d.iter().map(|x| x * lw / tr));
     let sigma = &v * Mat::from_diagonal(&scaled) * v.transpose();
     Ok((norm, symmetrize(&sigma)))
+}
+
+/// Λ_w = E[𝓕ᵀ𝓕] of a realization's error system from W = col(w[0..N]) (lw = mw(N+1)) to the
+/// counted errors, x0 fixed at its mean and the known input set aside (seed 003 §2; exact with
+/// dropouts, [`crate::exact::second_moment_operator`]).
+pub fn error_gram(plant: &crate::plant::Plant, real: &crate::realization::Realization) -> Mat {
+    let full = crate::exact::second_moment_operator(plant, real);
+    let n = plant.nx();
+    let lw = full.nrows() - n;
+    full.view((n, n), (lw, lw)).into_owned()
+}
+
+/// A realization's exact a-anisotropic norm (SPEC §5) with the worst input covariance Σ(q) over
+/// W = col(w[0..N]) (tr Σ = lw).
+pub fn realization_norm(
+    plant: &crate::plant::Plant,
+    real: &crate::realization::Realization,
+    a: f64,
+) -> Result<(AnisotropicNorm, Mat)> {
+    anisotropic_norm(&error_gram(plant, real), a)
+}
+
+/// Σ = T(ρ) ⊗ W: each component an AR(1) sequence in time, w[k] = ρ w[k−1] + sqrt(1−ρ²) v[k] started
+/// stationary, with the spatial covariance W of one step. Since det T(ρ) = (1−ρ²)^N for N+1 steps,
+/// A(Σ) = (N+1) A(W) − ½ mw N ln(1 − ρ²): the colour adds an anisotropy in closed form, so ρ for a
+/// target a is explicit (no root-finding needed). Index order: step-major, w[k] contiguous.
+pub fn coloured_covariance(w: &Mat, steps: usize, a: f64) -> Result<(Mat, f64)> {
+    let mw = w.nrows();
+    let white = steps as f64 * gaussian_anisotropy(w);
+    if !white.is_finite() {
+        return Err(Error::invalid("anisotropy", "the noise covariance is singular: its anisotropy is infinite"));
+    }
+    let extra = a - white;
+    if !(a.is_finite() && extra >= -1e-12) {
+        return Err(Error::invalid(
+            "anisotropy",
+            format!(
+                "white noise with this covariance already has anisotropy {white:.6}; a coloured input cannot have less (got {a})"
+            ),
+        ));
+    }
+    let rho = if steps < 2 { 0.0 } else { (1.0 - (-2.0 * extra.max(0.0) / (mw * (steps - 1)) as f64).exp()).sqrt() };
+    let t = Mat::from_fn(steps, steps, |i, j| rho.powi((i as i32 - j as i32).abs()));
+    Ok((t.kronecker(w), rho))
 }

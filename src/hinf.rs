@@ -62,6 +62,12 @@ pub fn operator(plant: &Plant, real: &Realization, s: &Mat) -> Result<Mat> {
 /// Ψ with the chosen last block of rows (see [`Terminal`]).
 pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> Result<Mat> {
     let (n, nz, nw, nn) = (plant.nx(), plant.nz(), plant.nw(), plant.horizon);
+    if plant.arrival.is_some() {
+        return Err(Error::invalid(
+            "plant.arrival",
+            "the generalized H∞ operator Ψ is deterministic only when every measurement arrives; with dropouts use the anisotropic analysis (Λ = E[𝓕ᵀ𝓕])",
+        ));
+    }
     let s_half = match terminal {
         Terminal::State(s) => {
             if real.ns() != n {

@@ -57,19 +57,22 @@ struct RunOpts {
     threads: Option<usize>,
 }
 
-fn load(name: &str, opts: &RunOpts) -> Result<spec::Experiment> {
-    let mut exp = spec::load(&experiment_path(name)?)?;
-    if let Some(t) = opts.trials {
-        if t < 2 {
-            return Err(filterbench::Error::invalid("--trials", "at least 2 trials are needed"));
+/// Every variant of the experiment, with the command-line overrides applied.
+fn load(name: &str, opts: &RunOpts) -> Result<Vec<spec::Experiment>> {
+    let mut exps = spec::load_variants(&experiment_path(name)?)?;
+    for exp in &mut exps {
+        if let Some(t) = opts.trials {
+            if t < 2 {
+                return Err(filterbench::Error::invalid("--trials", "at least 2 trials are needed"));
+            }
+            exp.trials = t;
+            exp.sample_trajectories = exp.sample_trajectories.min(t);
         }
-        exp.trials = t;
-        exp.sample_trajectories = exp.sample_trajectories.min(t);
+        if let Some(s) = opts.seed {
+            exp.seed = s;
+        }
     }
-    if let Some(s) = opts.seed {
-        exp.seed = s;
-    }
-    Ok(exp)
+    Ok(exps)
 }
 
 fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
@@ -93,27 +96,32 @@ fn main_inner(cli: Cli) -> Result<()> {
             }
         }
         Command::Experiment { name, opts, out, quiet } => {
-            let exp = load(&name, &opts)?;
-            let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exp.name));
+            let exps = load(&name, &opts)?;
+            let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exps[0].name));
             let staging = Staging::new(&target)?;
-            let outcome = pool(opts.threads)?.install(|| run::run(&exp, !quiet))?;
+            let pool = pool(opts.threads)?;
+            let outcomes = exps.iter().map(|e| pool.install(|| run::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
+            let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
             let overrides = Overrides {
                 trials: opts.trials,
                 seed: opts.seed,
                 threads: opts.threads,
                 out: out.map(|p| p.display().to_string()),
             };
-            report::write_all(&exp, &outcome, staging.path(), &overrides)?;
+            report::write_all(&runs, staging.path(), &overrides)?;
             let dir = staging.commit()?;
             if !quiet {
-                print!("{}", report::console::table(&exp, &outcome));
+                for (exp, outcome) in &runs {
+                    print!("{}", report::console::table(exp, outcome));
+                }
                 println!("\nresults: {}", dir.display());
             }
         }
         Command::Bench { name, opts } => {
-            let exp = load(&name, &opts)?;
             let p = pool(opts.threads)?;
-            print!("{}", p.install(|| bench::run(&exp))?);
+            for exp in load(&name, &opts)? {
+                print!("{}", p.install(|| bench::run(&exp))?);
+            }
         }
     }
     Ok(())

@@ -144,7 +144,7 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
     }
     for k in 0..p.steps() {
         let wk = ws.draw.w.column(k);
-        ws.y.gemv(1.0, p.c_at(k), &ws.x, 0.0);
+        ws.y.gemv(ws.draw.arrived[k], p.c_at(k), &ws.x, 0.0);
         ws.y.gemv(1.0, p.d_at(k), &wk, 1.0);
         ws.z.gemv(1.0, &p.cz, &ws.x, 0.0);
         ws.z.gemv(1.0, &p.dz, &wk, 1.0);
@@ -283,6 +283,8 @@ pub struct Trajectory {
     pub trial: u64,
     pub z: Mat,
     pub zhat: Vec<Mat>,
+    /// λ[k]: 0 at the dropout instants (all 1 without dropouts).
+    pub arrived: Vec<f64>,
 }
 
 /// Re-runs trials 0..count (same streams as in [`run`]) and records their trajectories.
@@ -291,14 +293,19 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
     let (nz, steps) = (sc.plant.nz(), sc.plant.steps());
     (0..count)
         .map(|t| {
-            let mut tr =
-                Trajectory { trial: t, z: Mat::zeros(nz, steps), zhat: vec![Mat::zeros(nz, steps); sc.filters.len()] };
+            let mut tr = Trajectory {
+                trial: t,
+                z: Mat::zeros(nz, steps),
+                zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
+                arrived: Vec::new(),
+            };
             run_trial(sc, &mut ws, t, |k, f, z, zhat| {
                 if f == 0 {
                     tr.z.set_column(k, z);
                 }
                 tr.zhat[f].set_column(k, zhat);
             });
+            tr.arrived = ws.draw.arrived.clone();
             tr
         })
         .collect()

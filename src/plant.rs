@@ -7,6 +7,10 @@
 //!
 //! `w` stacks named noise blocks (seed 000: `w = (ε, w_meas)`, `B = [b 0]`, `D = [0 d]`); each block
 //! has its own covariance, so an uncertainty set can constrain one block and leave the others fixed.
+//!
+//! Measurement dropouts (seed 003 (4.30), SPEC §0): with `arrival = Some(p)` the measurement is
+//! y[k] = λ[k] C x[k] + D w[k] with λ[k] ~ Bernoulli(p) independent over k and of the noise, i.e.
+//! C[k] = p C + (λ[k] − p) C: a multiplicative noise ζ = (λ − p)/sqrt(p(1 − p)) on C.
 
 use crate::linalg::{Mat, Vector, block_diag};
 
@@ -32,6 +36,8 @@ pub struct Plant {
     /// Time-varying measurement matrices C[k], k = 0..N (regressors Φ[k] of seed 002 §5), or empty
     /// when C is constant.
     pub c_steps: Vec<Mat>,
+    /// Probability p that a measurement arrives (λ[k] = 1); None when every measurement arrives.
+    pub arrival: Option<f64>,
     c_none: Mat,
     d_none: Mat,
 }
@@ -67,6 +73,7 @@ impl Plant {
             noise_blocks,
             sum_from: 0,
             c_steps: Vec::new(),
+            arrival: None,
             c_none,
             d_none,
         }
@@ -100,6 +107,14 @@ impl Plant {
             (true, Some(c)) => c,
             (true, None) => &self.c,
         }
+    }
+    /// p(1 − p), the variance of λ[k] (0 without dropouts).
+    pub fn dropout_variance(&self) -> f64 {
+        self.arrival.map_or(0.0, |p| p * (1.0 - p))
+    }
+    /// E λ[k] = p (1 without dropouts).
+    pub fn arrival_mean(&self) -> f64 {
+        self.arrival.unwrap_or(1.0)
     }
     /// D[k]: zero before the first measurement.
     pub fn d_at(&self, k: usize) -> &Mat {

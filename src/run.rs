@@ -22,6 +22,10 @@ pub struct DesignedFilter {
     pub design: Design,
     pub seconds: f64,
     pub worst: Option<WorstCase>,
+    /// The exact a-anisotropic norm² at the experiment's `anisotropy` level (seed 003), if it has one.
+    pub anisotropic_norm_sq: Option<f64>,
+    /// The summed error with zero noise (x0's mean and the known input alone).
+    pub deterministic_error: f64,
 }
 
 /// One scenario's results.
@@ -35,6 +39,10 @@ pub struct ScenarioOutcome {
     /// The deterministic disturbance (column k added to w[k]), if any.
     pub disturbance: Option<Mat>,
     pub exact: Vec<ExactError>,
+    /// E|W|² of W = col(w[0..N]) (noise and any deterministic disturbance).
+    pub input_power: f64,
+    /// The anisotropy of a Gaussian W with the scenario's covariance (None when W is degenerate).
+    pub input_anisotropy: Option<f64>,
     pub mc: McStats,
     pub mc_seconds: f64,
     pub trajectories: Vec<Trajectory>,
@@ -58,7 +66,14 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let seconds = t.elapsed().as_secs_f64();
             let worst = worst_case(exp, &design.realization)
                 .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
-            Ok(DesignedFilter { design, seconds, worst })
+            let anisotropic_norm_sq = match exp.anisotropy {
+                Some(a) => {
+                    Some(crate::anisotropy::realization_norm(&exp.plant, &design.realization, a)?.0.value.powi(2))
+                }
+                None => None,
+            };
+            let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
+            Ok(DesignedFilter { design, seconds, worst, anisotropic_norm_sq, deterministic_error })
         })
         .collect()
 }
@@ -114,7 +129,54 @@ fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice
             let (_, xi) = crate::hinf::norm(&exp.plant, &d.realization, &exp.sampling(&exp.nominal), &s)?;
             Some(JointInput::Fixed { xi })
         }
+        InputChoice::Coloured { anisotropy } => {
+            let (sigma, _) = crate::anisotropy::coloured_covariance(&exp.nominal.w(), exp.plant.steps(), *anisotropy)?;
+            Some(anisotropic_input(exp, &sigma))
+        }
+        InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
+            let real = &filters[*filter].design.realization;
+            let (_, sigma) = crate::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?;
+            // Σ(q) has tr Σ = lw; give it the power of white nominal noise.
+            let w = exp.nominal.w();
+            Some(anisotropic_input(exp, &(sigma * (w.trace() / w.nrows() as f64))))
+        }
     })
+}
+
+/// J = col(x0 − E x0, w[0..N]) with x0 at its nominal covariance and W = col(w[0..N]) ~ (0, Σ).
+fn anisotropic_input(exp: &Experiment, sigma: &Mat) -> JointInput {
+    let factor =
+        crate::linalg::block_diag(&[&crate::linalg::psd_factor(exp.nominal.x0()), &crate::linalg::psd_factor(sigma)]);
+    JointInput::Correlated { factor }
+}
+
+/// E|W|² and the Gaussian anisotropy of W = col(w[0..N]) for a scenario's input (SPEC §5).
+fn input_statistics(
+    exp: &Experiment,
+    cov: &Covariances,
+    w_mean: Option<&Mat>,
+    joint: Option<&JointInput>,
+) -> (f64, Option<f64>) {
+    let p = &exp.plant;
+    let steps = p.steps();
+    match joint {
+        None => {
+            let w = cov.w();
+            let power = steps as f64 * w.trace() + w_mean.map_or(0.0, |m| m.norm_squared());
+            let a = steps as f64 * crate::anisotropy::gaussian_anisotropy(&w);
+            (power, (a.is_finite() && w_mean.is_none()).then_some(a))
+        }
+        Some(j) => {
+            let (mean, c) = j.moments();
+            let n = p.nx();
+            let d = c.nrows() - n;
+            let cw = c.view((n, n), (d, d)).into_owned();
+            let power = cw.trace() + mean.rows(n, d).norm_squared();
+            let full = d == steps * p.nw() && mean.rows(n, d).norm() == 0.0;
+            let a = crate::anisotropy::gaussian_anisotropy(&cw);
+            (power, (full && a.is_finite()).then_some(a))
+        }
+    }
 }
 
 /// Resolves the concrete covariance of every scenario (a worst case needs the designed filter).
@@ -181,7 +243,14 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
                 reals.iter().map(|r| exact::error_joint(&exp.plant, r, &mean, &jcov)).collect::<Result<Vec<_>>>()
             }
         }?;
-        let covariance_label = joint.as_ref().map_or_else(|| s.covariance.label(exp), |j| j.label().to_string());
+        let covariance_label = match &s.input {
+            InputChoice::Coloured { anisotropy } => format!("coloured(a={anisotropy})"),
+            InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
+                format!("anisotropic_worst_for({}, a={anisotropy})", exp.filters[*filter].name)
+            }
+            _ => joint.as_ref().map_or_else(|| s.covariance.label(exp), |j| j.label().to_string()),
+        };
+        let (input_power, input_anisotropy) = input_statistics(exp, &cov, w_mean.as_ref(), joint.as_ref());
         scenarios.push(ScenarioOutcome {
             name: s.name.clone(),
             covariance_label,
@@ -190,6 +259,8 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             disturbance_label,
             disturbance: w_mean,
             exact,
+            input_power,
+            input_anisotropy,
             mc,
             mc_seconds,
             trajectories,

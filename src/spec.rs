@@ -32,6 +32,8 @@ struct ExperimentFile {
     pattern: Pattern,
     #[serde(default = "default_samples")]
     sample_trajectories: usize,
+    /// Total anisotropy a at which every filter's exact a-anisotropic norm is reported (seed 003).
+    anisotropy: Option<f64>,
     plant: PlantFile,
     nominal: BTreeMap<String, Rows>,
     #[serde(default)]
@@ -40,6 +42,10 @@ struct ExperimentFile {
     disturbances: BTreeMap<String, DisturbanceFile>,
     scenarios: Vec<ScenarioFile>,
     filters: Vec<FilterFile>,
+    /// Patches of this file, each run as its own variant (read by [`load_variants`]).
+    #[serde(default)]
+    #[allow(dead_code)]
+    variants: Vec<toml::Table>,
 }
 
 fn default_samples() -> usize {
@@ -65,6 +71,8 @@ struct PlantFile {
     sum_from: usize,
     C_steps: Option<Vec<Rows>>,
     known_input: Option<KnownInputFile>,
+    /// Probability p that a measurement arrives (seed 003: y = λ C x + D w, λ ~ Bernoulli(p)).
+    arrival: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -141,6 +149,12 @@ pub enum Input<F> {
     RandomCovariance { seed: u64 },
     /// The worst input on the ellipsoid for the named filter (the top eigenvector of ΨKΨᵀ).
     EllipsoidWorstFor { filter: F },
+    /// Gaussian W = col(w[0..N]) coloured in time (AR(1) per component, the nominal covariance per
+    /// step) with total anisotropy exactly `anisotropy` (seed 003; a over lw = mw(N+1)).
+    Coloured { anisotropy: f64 },
+    /// The named filter's worst Gaussian input at total anisotropy `anisotropy`: Σ(q) = (I − qΛ)⁻¹,
+    /// scaled to the power of white nominal noise.
+    AnisotropicWorstFor { filter: F, anisotropy: f64 },
 }
 
 /// A resolved [`Input`].
@@ -155,6 +169,10 @@ impl<F> Input<F> {
             Input::EllipsoidInterior => Input::EllipsoidInterior,
             Input::RandomCovariance { seed } => Input::RandomCovariance { seed },
             Input::EllipsoidWorstFor { filter } => Input::EllipsoidWorstFor { filter: f(filter)? },
+            Input::Coloured { anisotropy } => Input::Coloured { anisotropy },
+            Input::AnisotropicWorstFor { filter, anisotropy } => {
+                Input::AnisotropicWorstFor { filter: f(filter)?, anisotropy }
+            }
         })
     }
 }
@@ -269,11 +287,15 @@ pub struct FilterSpec {
 #[derive(Clone, Debug)]
 pub struct Experiment {
     pub name: String,
+    /// The variant's name when the file has `[[variants]]` (e.g. one dropout probability each).
+    pub variant: Option<String>,
     pub description: String,
     pub seed: u64,
     pub trials: usize,
     pub pattern: Pattern,
     pub sample_trajectories: usize,
+    /// The total anisotropy a at which every filter's a-anisotropic norm is reported, if any.
+    pub anisotropy: Option<f64>,
     pub plant: Plant,
     pub nominal: Covariances,
     /// The uncertainty set of each covariance block (index as in `Covariances::blocks`), if any.
@@ -314,6 +336,61 @@ pub fn load(path: &Path) -> Result<Experiment> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
     parse(&name, &path.display().to_string(), &text)
+}
+
+/// Reads an experiment file and returns one experiment per `[[variants]]` entry: the file with the
+/// entry's keys merged in (tables key by key, anything else replaced), named by its `name`. A file
+/// without variants gives itself. The base file must be valid on its own.
+pub fn load_variants(path: &Path) -> Result<Vec<Experiment>> {
+    let base = load(path)?;
+    let file = path.display().to_string();
+    let mut doc: toml::Table =
+        toml::from_str(&base.source).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
+    let Some(variants) = doc.remove("variants") else { return Ok(vec![base]) };
+    let variants = variants.as_array().cloned().unwrap_or_default();
+    let mut out = Vec::with_capacity(variants.len());
+    let mut seen = std::collections::BTreeSet::new();
+    for (i, v) in variants.into_iter().enumerate() {
+        let key = format!("variants[{i}]");
+        let mut patch = match v {
+            toml::Value::Table(t) => t,
+            _ => return Err(Error::invalid(key, "each variant is a table")),
+        };
+        let name = match patch.remove("name") {
+            Some(toml::Value::String(n)) => n,
+            _ => return Err(Error::invalid(format!("{key}.name"), "each variant needs a `name` (a string)")),
+        };
+        if !seen.insert(name.clone()) {
+            return Err(Error::invalid(format!("{key}.name"), format!("variant name `{name}` is repeated")));
+        }
+        let mut merged = doc.clone();
+        merge(&mut merged, patch);
+        let raw: ExperimentFile =
+            serde_path_to_error::deserialize(toml::Value::Table(merged)).map_err(|e| Error::Parse {
+                file: file.clone(),
+                message: format!("variant `{name}`: key `{}`: {}", e.path(), e.inner().message().trim()),
+            })?;
+        let mut exp = resolve(&base.name, raw, &base.source)
+            .map_err(|e| Error::Parse { file: file.clone(), message: format!("variant `{name}`: {e}") })?;
+        exp.variant = Some(name);
+        out.push(exp);
+    }
+    if out.is_empty() {
+        return Err(Error::invalid("variants", "the list of variants is empty"));
+    }
+    Ok(out)
+}
+
+/// Merges `patch` into `doc`: tables key by key, any other value replaced.
+fn merge(doc: &mut toml::Table, patch: toml::Table) {
+    for (k, v) in patch {
+        match (doc.get_mut(&k), v) {
+            (Some(toml::Value::Table(d)), toml::Value::Table(p)) => merge(d, p),
+            (_, v) => {
+                doc.insert(k, v);
+            }
+        }
+    }
 }
 
 /// Parses experiment text; `file` is only used in messages.
@@ -538,6 +615,12 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
             .map(|(k, r)| from_rows(&format!("plant.C_steps[{k}]"), r, Some((ny, n))))
             .collect::<Result<_>>()?;
     }
+    if let Some(pa) = p.arrival {
+        if !(pa > 0.0 && pa <= 1.0) {
+            return Err(Error::invalid("plant.arrival", format!("a probability in (0, 1] is needed, got {pa}")));
+        }
+        plant.arrival = Some(pa);
+    }
     let nominal = Covariances { blocks };
 
     let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
@@ -624,8 +707,18 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         {
             return Err(Error::invalid(ikey, "a joint input replaces `covariance` and `disturbance`: remove them"));
         }
+        if let Input::Coloured { anisotropy: a } | Input::AnisotropicWorstFor { anisotropy: a, .. } = &s.input {
+            if !(*a >= 0.0 && a.is_finite()) {
+                return Err(Error::invalid(format!("{ikey}.anisotropy"), format!("must be finite and ≥ 0, got {a}")));
+            }
+        }
         let input = s.input.map_filter(index_of(ikey))?;
         scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance, input });
+    }
+    if let Some(a) = f.anisotropy {
+        if !(a >= 0.0 && a.is_finite()) {
+            return Err(Error::invalid("anisotropy", format!("must be finite and ≥ 0, got {a}")));
+        }
     }
     if f.sample_trajectories > f.trials {
         return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));
@@ -633,11 +726,13 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
 
     Ok(Experiment {
         name: name.to_string(),
+        variant: None,
         description: f.description,
         seed: f.seed,
         trials: f.trials,
         pattern: f.pattern,
         sample_trajectories: f.sample_trajectories,
+        anisotropy: f.anisotropy,
         plant,
         nominal,
         sets,

@@ -208,5 +208,6 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         trace: Vec::new(),
         diagnostics,
         per_trial: Some(PerTrialBound::Ratio { bound: lambda, terminal_weight: s }),
+        gain_bound: None,
     })
 }

@@ -107,6 +107,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         trace: sol.trace,
         diagnostics,
         per_trial: None,
+        gain_bound: None,
     })
 }
 

@@ -2,8 +2,10 @@
 //! a [`Realization`] plus what its theory guarantees. Adding a family is one file here and one line
 //! in [`registry`].
 
+pub mod anisotropic;
 pub mod h2;
 pub mod hinf_lambda;
+pub mod intermittent;
 pub mod kalman;
 pub mod minimax;
 pub mod registry;
@@ -44,6 +46,16 @@ pub struct Design {
     pub diagnostics: serde_json::Map<String, serde_json::Value>,
     /// A guarantee that holds for every single trial (seed 002's H∞-λ), checked on each one.
     pub per_trial: Option<PerTrialBound>,
+    /// A bound on the mean-square gain over inputs of bounded anisotropy (seed 003).
+    pub gain_bound: Option<GainBound>,
+}
+
+/// Seed 003's promise: E|Z̃|² ≤ γ² E|W|² for every input W = col(w[0..N]) with anisotropy ≤ a
+/// (a = ∞: every input; the H∞-suboptimal filter).
+#[derive(Clone, Copy, Debug)]
+pub struct GainBound {
+    pub gamma_sq: f64,
+    pub anisotropy: f64,
 }
 
 /// Seed 002's per-realization promises, with the input energy

@@ -37,6 +37,8 @@ pub struct NoiseSampler {
     w_mean: Option<Mat>,
     /// Inputs drawn jointly over the horizon instead of block by block.
     joint: Option<JointInput>,
+    /// Probability that a measurement arrives (seed 003 dropouts), drawn after the noise.
+    arrival: Option<f64>,
 }
 
 /// One trial's draws: the initial state and w[k] as column k of `w`.
@@ -44,6 +46,8 @@ pub struct NoiseSampler {
 pub struct TrialDraw {
     pub x0: Vector,
     pub w: Mat,
+    /// λ[k] ∈ {0, 1}: whether the measurement of step k arrived (all 1 without dropouts).
+    pub arrived: Vec<f64>,
     u0: Vector,
     u: Vector,
     uj: Vector,
@@ -60,6 +64,7 @@ impl NoiseSampler {
             steps: plant.steps(),
             w_mean: None,
             joint: None,
+            arrival: plant.arrival,
         }
     }
 
@@ -79,6 +84,7 @@ impl NoiseSampler {
         TrialDraw {
             x0: Vector::zeros(self.m0.len()),
             w: Mat::zeros(self.lw.nrows(), self.steps),
+            arrived: vec![1.0; self.steps],
             u0: Vector::zeros(self.l0.ncols()),
             u: Vector::zeros(self.lw.ncols()),
             uj: Vector::zeros(self.joint.as_ref().map_or(0, JointInput::dim)),
@@ -86,8 +92,17 @@ impl NoiseSampler {
         }
     }
 
-    /// Fills `out` with one trial's draws from `rng`.
+    /// Fills `out` with one trial's draws from `rng`: the noise, then the dropouts.
     pub fn draw_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, out: &mut TrialDraw) {
+        self.draw_noise(rng, out);
+        if let Some(p) = self.arrival {
+            for l in out.arrived.iter_mut() {
+                *l = if rand::RngExt::random::<f64>(rng) < p { 1.0 } else { 0.0 };
+            }
+        }
+    }
+
+    fn draw_noise<R: rand::Rng + ?Sized>(&self, rng: &mut R, out: &mut TrialDraw) {
         if let Some(j) = &self.joint {
             j.draw(rng, &self.draw, &mut out.uj, &mut out.xi);
             let n = self.m0.len();
@@ -95,7 +110,9 @@ impl NoiseSampler {
             out.x0.copy_from(&self.m0);
             out.x0 += out.xi.rows(0, n);
             out.w.fill(0.0);
-            for k in 0..self.steps - 1 {
+            // w[N] is part of ξ only when ξ is long enough (anisotropic inputs: lw = mw(N+1)).
+            let steps = ((out.xi.len() - n) / nw).min(self.steps);
+            for k in 0..steps {
                 out.w.column_mut(k).copy_from(&out.xi.rows(n + k * nw, nw));
             }
             return;

@@ -34,7 +34,8 @@ fn matrix(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
     (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect()
 }
 
-pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &Path) -> Result<()> {
+/// The scenarios and filters of one run, as JSON.
+fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<serde_json::Value>) {
     let names = exp.plant.block_names();
     let cov_json = |c: &crate::plant::Covariances| -> serde_json::Map<String, serde_json::Value> {
         names.iter().zip(&c.blocks).map(|(n, m)| (n.to_string(), serde_json::json!(matrix(m)))).collect()
@@ -62,6 +63,28 @@ pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &P
                 "worst_case": d.worst.as_ref().map(|w| w.total),
                 "design_covariance": d.design.design_covariance.as_ref().map(cov_json),
                 "diagnostics": d.design.diagnostics,
+                "anisotropic_norm_sq": d.anisotropic_norm_sq,
+                "gain_bound": d.design.gain_bound.map(|g| serde_json::json!({"gamma_sq": g.gamma_sq, "anisotropy": g.anisotropy})),
+            })
+        })
+        .collect();
+    (scenarios, filters)
+}
+
+/// Writes the manifest of the runs of one experiment: the first run's scenarios and filters at the
+/// top level, and with variants one entry per variant under `variants`.
+pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &Path) -> Result<()> {
+    let (exp, out) = runs[0];
+    let (scenarios, filters) = run_json(exp, out);
+    let variants: Vec<_> = runs
+        .iter()
+        .filter(|(e, _)| e.variant.is_some())
+        .map(|(e, o)| {
+            let (scenarios, filters) = run_json(e, o);
+            serde_json::json!({
+                "variant": e.variant, "arrival": e.plant.arrival, "anisotropy": e.anisotropy,
+                "design_seconds": o.design_seconds, "total_seconds": o.total_seconds,
+                "scenarios": scenarios, "filters": filters,
             })
         })
         .collect();
@@ -76,10 +99,12 @@ pub fn write(exp: &Experiment, out: &RunOutcome, overrides: &Overrides, path: &P
         "overrides": overrides,
         "filterbench_version": env!("CARGO_PKG_VERSION"),
         "libraries": library_versions(),
+        "anisotropy": exp.anisotropy,
         "design_seconds": out.design_seconds,
-        "total_seconds": out.total_seconds,
+        "total_seconds": runs.iter().map(|(_, o)| o.total_seconds).sum::<f64>(),
         "scenarios": scenarios,
         "filters": filters,
+        "variants": variants,
         "experiment_file": exp.source,
     });
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Error::output("manifest.json", e))?;

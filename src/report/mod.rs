@@ -76,14 +76,11 @@ impl Drop for Staging {
     }
 }
 
-/// Writes every file of the output contract into `dir`.
-pub fn write_all(exp: &Experiment, out: &RunOutcome, dir: &Path, overrides: &manifest::Overrides) -> Result<()> {
-    parquet::write_summary(exp, out, &dir.join("summary.parquet"))?;
-    parquet::write_steps(exp, out, &dir.join("steps.parquet"))?;
-    parquet::write_gains(exp, out, &dir.join("gains.parquet"))?;
-    parquet::write_paired(exp, out, &dir.join("paired.parquet"))?;
-    parquet::write_trace(exp, out, &dir.join("design_trace.parquet"))?;
-    recording::write(exp, out, &dir.join("recording.rrd"))?;
-    manifest::write(exp, out, overrides, &dir.join("manifest.json"))?;
+/// Writes every file of the output contract into `dir`, for the runs of one experiment (one per
+/// variant; a file without variants is one run).
+pub fn write_all(runs: &[(&Experiment, &RunOutcome)], dir: &Path, overrides: &manifest::Overrides) -> Result<()> {
+    parquet::write_tables(runs, dir)?;
+    recording::write(runs, &dir.join("recording.rrd"))?;
+    manifest::write(runs, overrides, &dir.join("manifest.json"))?;
     Ok(())
 }

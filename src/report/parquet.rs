@@ -9,15 +9,45 @@ use crate::montecarlo::McStats;
 use crate::run::RunOutcome;
 use crate::spec::Experiment;
 
-fn write(df: &mut DataFrame, path: &Path) -> Result<()> {
-    let what = path.display().to_string();
-    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-    ParquetWriter::new(file).finish(df).map_err(|e| Error::output(&what, e))?;
+/// One run's part of a table.
+type Part = fn(&Experiment, &RunOutcome) -> Result<DataFrame>;
+
+/// The tables, by file name.
+pub const TABLES: &[(&str, Part)] = &[
+    ("summary.parquet", summary),
+    ("steps.parquet", steps),
+    ("gains.parquet", gains),
+    ("paired.parquet", paired),
+    ("design_trace.parquet", trace),
+];
+
+/// Writes every table for the runs of one experiment (one run per variant): each run's rows with a
+/// `variant` column (null when the file has no variants) after `experiment`, stacked in run order.
+pub fn write_tables(runs: &[(&Experiment, &RunOutcome)], dir: &Path) -> Result<()> {
+    for (file, part) in TABLES {
+        let path = dir.join(file);
+        let what = path.display().to_string();
+        let mut all: Option<DataFrame> = None;
+        for (exp, out) in runs {
+            let mut df = part(exp, out)?;
+            let variant = Column::new("variant".into(), vec![exp.variant.clone(); df.height()]);
+            df.insert_column(1, variant).map_err(|e| Error::output(&what, e))?;
+            match &mut all {
+                None => all = Some(df),
+                Some(a) => {
+                    a.vstack_mut(&df).map_err(|e| Error::output(&what, e))?;
+                }
+            }
+        }
+        let mut df = all.expect("at least one run");
+        let f = std::fs::File::create(&path).map_err(|e| Error::io(&path, e))?;
+        ParquetWriter::new(f).finish(&mut df).map_err(|e| Error::output(&what, e))?;
+    }
     Ok(())
 }
 
-fn frame(cols: Vec<Column>, path: &Path) -> Result<DataFrame> {
-    DataFrame::new_infer_height(cols).map_err(|e| Error::output(path.display().to_string(), e))
+fn frame(cols: Vec<Column>) -> Result<DataFrame> {
+    DataFrame::new_infer_height(cols).map_err(|e| Error::output("parquet table", e))
 }
 
 fn col<T, P>(name: &str, v: T) -> Column
@@ -29,7 +59,7 @@ where
 }
 
 /// One row per (scenario, filter): summed error over the horizon.
-pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let mut c = SummaryCols::default();
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
@@ -58,39 +88,66 @@ pub fn write_summary(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<
             c.violations.push(pt.map(|_| sc.mc.filters[f].violations));
             c.ratio_bound.push(pt.map(|b| b.bound()));
             c.max_ratio.push(pt.map(|_| sc.mc.filters[f].max_ratio));
+            // Seed 003's figures: the mean-square gain E|Z̃|²/E|W|², exact and empirical, against the
+            // filter's a-anisotropic norm² and its guaranteed γ².
+            let pw = sc.input_power;
+            let gain = (pw > 0.0).then_some(pw);
+            c.input_power.push(pw);
+            c.input_anisotropy.push(sc.input_anisotropy);
+            c.gain_empirical.push(gain.map(|p| st.mean / p));
+            c.gain_ci_low.push(gain.map(|p| lo / p));
+            c.gain_ci_high.push(gain.map(|p| hi / p));
+            c.gain_exact.push(gain.map(|p| sc.exact[f].total / p));
+            c.deterministic_error.push(d.deterministic_error);
+            c.gain_exact_noise.push(
+                gain.filter(|_| sc.disturbance.is_none()).map(|p| (sc.exact[f].total - d.deterministic_error) / p),
+            );
+            c.anisotropic_norm_sq.push(d.anisotropic_norm_sq);
+            let gb = d.design.gain_bound;
+            c.guaranteed_gain.push(gb.map(|g| g.gamma_sq));
+            c.guarantee_anisotropy.push(gb.map(|g| g.anisotropy));
+            c.guarantee_applies.push(gb.map(|g| sc.input_anisotropy.is_some_and(|a| a <= g.anisotropy + 1e-9)));
             c.design_seconds.push(d.seconds);
             c.mc_seconds.push(sc.mc_seconds);
         }
     }
-    let mut df = frame(
-        vec![
-            col("experiment", c.experiment),
-            col("scenario", c.scenario),
-            col("covariance", c.covariance),
-            col("shape", c.shape),
-            col("disturbance", c.disturbance),
-            col("filter", c.filter),
-            col("family", c.family),
-            col("n_trials", c.n_trials),
-            col("empirical_mean", c.empirical_mean),
-            col("std_error", c.std_error),
-            col("ci_low", c.ci_low),
-            col("ci_high", c.ci_high),
-            col("exact", c.exact),
-            col("exact_terminal", c.exact_terminal),
-            col("guaranteed", c.guaranteed),
-            col("guarantee_kind", c.guarantee_kind),
-            col("worst_case", c.worst_case),
-            col("worst_case_psd", c.worst_case_psd),
-            col("violations", c.violations),
-            col("ratio_bound", c.ratio_bound),
-            col("max_ratio", c.max_ratio),
-            col("design_seconds", c.design_seconds),
-            col("mc_seconds", c.mc_seconds),
-        ],
-        path,
-    )?;
-    write(&mut df, path)
+    frame(vec![
+        col("experiment", c.experiment),
+        col("scenario", c.scenario),
+        col("covariance", c.covariance),
+        col("shape", c.shape),
+        col("disturbance", c.disturbance),
+        col("filter", c.filter),
+        col("family", c.family),
+        col("n_trials", c.n_trials),
+        col("empirical_mean", c.empirical_mean),
+        col("std_error", c.std_error),
+        col("ci_low", c.ci_low),
+        col("ci_high", c.ci_high),
+        col("exact", c.exact),
+        col("exact_terminal", c.exact_terminal),
+        col("guaranteed", c.guaranteed),
+        col("guarantee_kind", c.guarantee_kind),
+        col("worst_case", c.worst_case),
+        col("worst_case_psd", c.worst_case_psd),
+        col("violations", c.violations),
+        col("ratio_bound", c.ratio_bound),
+        col("max_ratio", c.max_ratio),
+        col("input_power", c.input_power),
+        col("input_anisotropy", c.input_anisotropy),
+        col("gain_empirical", c.gain_empirical),
+        col("gain_ci_low", c.gain_ci_low),
+        col("gain_ci_high", c.gain_ci_high),
+        col("gain_exact", c.gain_exact),
+        col("deterministic_error", c.deterministic_error),
+        col("gain_exact_noise", c.gain_exact_noise),
+        col("anisotropic_norm_sq", c.anisotropic_norm_sq),
+        col("guaranteed_gain", c.guaranteed_gain),
+        col("guarantee_anisotropy", c.guarantee_anisotropy),
+        col("guarantee_applies", c.guarantee_applies),
+        col("design_seconds", c.design_seconds),
+        col("mc_seconds", c.mc_seconds),
+    ])
 }
 
 #[derive(Default)]
@@ -116,12 +173,24 @@ struct SummaryCols {
     violations: Vec<Option<u64>>,
     ratio_bound: Vec<Option<f64>>,
     max_ratio: Vec<Option<f64>>,
+    input_power: Vec<f64>,
+    input_anisotropy: Vec<Option<f64>>,
+    gain_empirical: Vec<Option<f64>>,
+    gain_ci_low: Vec<Option<f64>>,
+    gain_ci_high: Vec<Option<f64>>,
+    gain_exact: Vec<Option<f64>>,
+    deterministic_error: Vec<f64>,
+    gain_exact_noise: Vec<Option<f64>>,
+    anisotropic_norm_sq: Vec<Option<f64>>,
+    guaranteed_gain: Vec<Option<f64>>,
+    guarantee_anisotropy: Vec<Option<f64>>,
+    guarantee_applies: Vec<Option<bool>>,
     design_seconds: Vec<f64>,
     mc_seconds: Vec<f64>,
 }
 
 /// One row per (scenario, filter, step).
-pub fn write_steps(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     for sc in &out.scenarios {
@@ -141,25 +210,21 @@ pub fn write_steps(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
         }
     }
     let n = step.len();
-    let mut df = frame(
-        vec![
-            col("experiment", vec![exp.name.as_str(); n]),
-            col("scenario", sc_),
-            col("filter", fl),
-            col("step", step),
-            col("mse_mean", mean),
-            col("mse_ci_low", lo),
-            col("mse_ci_high", hi),
-            col("exact_mse", ex),
-            col("bound", bound),
-        ],
-        path,
-    )?;
-    write(&mut df, path)
+    frame(vec![
+        col("experiment", vec![exp.name.as_str(); n]),
+        col("scenario", sc_),
+        col("filter", fl),
+        col("step", step),
+        col("mse_mean", mean),
+        col("mse_ci_low", lo),
+        col("mse_ci_high", hi),
+        col("exact_mse", ex),
+        col("bound", bound),
+    ])
 }
 
 /// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value.
-pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+fn gains(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     let mut push = |f: &str, k: usize, name: &'static str, m: &nalgebra::DMatrix<f64>| {
@@ -186,23 +251,19 @@ pub fn write_gains(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
             push(&spec.name, k, "Gf", &g.gf);
         }
     }
-    let mut df = frame(
-        vec![
-            col("filter", fl),
-            col("step", step),
-            col("mode", mode),
-            col("matrix", mat),
-            col("row", row),
-            col("col", coln),
-            col("value", val),
-        ],
-        path,
-    )?;
-    write(&mut df, path)
+    frame(vec![
+        col("filter", fl),
+        col("step", step),
+        col("mode", mode),
+        col("matrix", mat),
+        col("row", row),
+        col("col", coln),
+        col("value", val),
+    ])
 }
 
 /// Paired differences of the summed error between every two filters on the same draws.
-pub fn write_paired(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+fn paired(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut sc_, mut a, mut b, mut n, mut mean, mut se, mut lo, mut hi, mut ex) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     let pairs = McStats::pairs(exp.filters.len());
@@ -221,27 +282,23 @@ pub fn write_paired(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<(
         }
     }
     let rows = n.len();
-    let mut df = frame(
-        vec![
-            col("experiment", vec![exp.name.as_str(); rows]),
-            col("scenario", sc_),
-            col("filter_a", a),
-            col("filter_b", b),
-            col("n_trials", n),
-            col("mean_diff", mean),
-            col("std_error", se),
-            col("ci_low", lo),
-            col("ci_high", hi),
-            col("exact_diff", ex),
-        ],
-        path,
-    )?;
-    write(&mut df, path)
+    frame(vec![
+        col("experiment", vec![exp.name.as_str(); rows]),
+        col("scenario", sc_),
+        col("filter_a", a),
+        col("filter_b", b),
+        col("n_trials", n),
+        col("mean_diff", mean),
+        col("std_error", se),
+        col("ci_low", lo),
+        col("ci_high", hi),
+        col("exact_diff", ex),
+    ])
 }
 
 /// The iterations of every iterative design: filter, iteration, objective (I(K(s)) for minimax),
 /// gap (δ(s)), step (τ(s)).
-pub fn write_trace(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()> {
+fn trace(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut fl, mut it, mut obj, mut gap, mut step) = (vec![], vec![], vec![], vec![], vec![]);
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
         for r in &d.design.trace {
@@ -252,9 +309,5 @@ pub fn write_trace(exp: &Experiment, out: &RunOutcome, path: &Path) -> Result<()
             step.push(r.step);
         }
     }
-    let mut df = frame(
-        vec![col("filter", fl), col("iteration", it), col("objective", obj), col("gap", gap), col("step", step)],
-        path,
-    )?;
-    write(&mut df, path)
+    frame(vec![col("filter", fl), col("iteration", it), col("objective", obj), col("gap", gap), col("step", step)])
 }

@@ -3,6 +3,8 @@
 //! clarabel's PSD triangle cone: the upper triangle in column-major order with off-diagonal entries
 //! scaled by √2, so that ⟨svec A, svec B⟩ = ⟨A, B⟩.
 
+use std::collections::BTreeMap;
+
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 
@@ -67,6 +69,21 @@ impl Conic {
             }
         }
         self.cones.push(SupportedConeT::PSDTriangleConeT(m));
+    }
+
+    /// The program's size: constraint rows, and the cones as (kind, size) counts.
+    pub fn size(&self) -> (usize, BTreeMap<String, usize>) {
+        let mut cones = BTreeMap::new();
+        for c in &self.cones {
+            let key = match c {
+                SupportedConeT::NonnegativeConeT(n) => format!("nonnegative({n})"),
+                SupportedConeT::SecondOrderConeT(n) => format!("second_order({n})"),
+                SupportedConeT::PSDTriangleConeT(n) => format!("psd({n}x{n})"),
+                other => format!("{other:?}"),
+            };
+            *cones.entry(key).or_insert(0) += 1;
+        }
+        (self.b.len(), cones)
     }
 
     /// Minimizes costᵀx; anything but an (almost) solved status is an error naming it.

@@ -1,6 +1,7 @@
 //! Numerical building blocks for the design procedures: clarabel conic programs over symmetric
 //! matrices ([`sdp`]) and a maximizer of concave functions on an interval ([`line`]).
 
+pub mod affine;
 pub mod conic;
 pub mod line;
 pub mod sdp;

@@ -1,0 +1,104 @@
+//! The linear minimum-variance predictor for intermittent observations (seed 003 §4.2.1's plant
+//! (4.30); the H2-optimal reference of the `aniso_dropout` experiment). It has the structure of
+//! (4.31) with W = A, x̂[k+1] = A x̂ + H(y − p Cy x̂) + r, and the gain that minimizes E|e[k+1]|²
+//! given the error covariance P and the raw state moment X = E[xxᵀ]:
+//!
+//!     ν = y − pCy x̂ = pCy e + (λ − p) Cy x + Dy w,    S = p² Cy P Cyᵀ + p(1−p) Cy X Cyᵀ + Dy W Dyᵀ,
+//!     H = (p A P Cyᵀ + B W Dyᵀ) S⁺,    P' = A P Aᵀ + B W Bᵀ − H S Hᵀ,
+//!     X' = A X Aᵀ + B W Bᵀ + A m rᵀ + r mᵀ Aᵀ + r rᵀ,  m' = A m + r   (m = E x),
+//!
+//! P[0] = cov x0, X[0] = P[0] + m0 m0ᵀ. The p(1−p) term is the price of not knowing λ: the filter
+//! sees a measurement whose signal part is missing with probability 1 − p. With p = 1 it is the
+//! Kalman predictor. Its guarantee is its exact error at the design covariance, Σ_k tr(Cz P Czᵀ)
+//! plus the Dz terms.
+
+use serde::Deserialize;
+
+use super::{Design, Guarantee};
+use crate::error::{Error, Result};
+use crate::exact;
+use crate::linalg::{Mat, psd_pinv, symmetrize};
+use crate::noise::CovChoice;
+use crate::plant::{Covariances, Plant};
+use crate::realization::{Gains, Realization};
+use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    #[serde(default)]
+    design: CovChoiceFile,
+}
+
+pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
+    let p: Params = family_params(filter)?;
+    let key = format!("filters.{}.design", filter.name);
+    if exp.pattern != Pattern::Prediction {
+        return Err(Error::design(
+            &filter.name,
+            "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
+        ));
+    }
+    if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+        return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
+    }
+    let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
+    let cov = choice.covariances(&key, exp, None)?;
+    let (realization, predicted) = predictor(&exp.plant, &cov);
+    let at_design = exact::error(&exp.plant, &realization, &cov);
+    let mut diagnostics = serde_json::Map::new();
+    diagnostics.insert("riccati_summed_error".into(), predicted.into());
+    Ok(Design {
+        realization,
+        guarantee: Some(Guarantee {
+            kind: "exact_at_design".into(),
+            total: at_design.total,
+            per_step: at_design.per_step,
+        }),
+        design_covariance: Some(cov),
+        trace: Vec::new(),
+        diagnostics,
+        per_trial: None,
+        gain_bound: None,
+    })
+}
+
+/// The predictor of the module docs and the summed error its Riccati recursion predicts,
+/// Σ_k tr(Cz P[k] Czᵀ + Dz W Dzᵀ).
+pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
+    let w = cov.w();
+    let (p, v) = (plant.arrival_mean(), plant.dropout_variance());
+    let n = plant.nx();
+    let mut pe = cov.x0().clone();
+    let mut m = plant.x0_mean.clone();
+    let mut x = &pe + &m * m.transpose();
+    let mut predicted = 0.0;
+    let mut steps = Vec::with_capacity(plant.steps());
+    for k in 0..plant.steps() {
+        let (c, d) = (plant.c_at(k), plant.d_at(k));
+        if plant.counts(k) {
+            predicted += (&plant.cz * &pe * plant.cz.transpose() + &plant.dz * &w * plant.dz.transpose()).trace();
+        }
+        let s = symmetrize(&(p * p * c * &pe * c.transpose() + v * c * &x * c.transpose() + d * &w * d.transpose()));
+        let h = (p * &plant.a * &pe * c.transpose() + &plant.b * &w * d.transpose()) * psd_pinv(&s);
+        steps.push(Gains {
+            af: &plant.a - p * &h * c,
+            bf: h.clone(),
+            cf: plant.cz.clone(),
+            df: Mat::zeros(plant.nz(), plant.ny()),
+            gf: Mat::identity(n, n),
+        });
+        let bwb = &plant.b * &w * plant.b.transpose();
+        pe = symmetrize(&(&plant.a * &pe * plant.a.transpose() + &bwb - &h * &s * h.transpose()));
+        let mut xn = &plant.a * &x * plant.a.transpose() + &bwb;
+        let mut mn = &plant.a * &m;
+        if let Some(r) = plant.r_at(k) {
+            let am = &plant.a * &m;
+            xn += &am * r.transpose() + r * am.transpose() + r * r.transpose();
+            mn += r;
+        }
+        x = symmetrize(&xn);
+        m = mn;
+    }
+    (Realization { s0: plant.x0_mean.clone(), steps }, predicted)
+}
