@@ -15,6 +15,9 @@ pub fn gaussian_anisotropy(sigma: &Mat) -> f64 {
     let m = sigma.nrows() as f64;
     let tr = sigma.trace();
     let eig = symmetrize(sigma).symmetric_eigenvalues();
+    if eig.iter().any(|l| *l <= 0.0) {
+        return f64::INFINITY;
+    }
     // A ≥ 0 (Hadamard/AM–GM); clamp the rounding of white noise's exact zero.
     (-0.5 * eig.iter().map(|l| (m * l / tr).ln()).sum::<f64>()).max(0.0)
 }

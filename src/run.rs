@@ -22,8 +22,8 @@ pub struct DesignedFilter {
     pub design: Design,
     pub seconds: f64,
     pub worst: Option<WorstCase>,
-    /// The exact a-anisotropic norm² at the experiment's `anisotropy` level (seed 003), if it has one.
-    pub anisotropic_norm_sq: Option<f64>,
+    /// The exact a-anisotropic norm² and its limits, at the experiment's `anisotropy` level (seed 003).
+    pub anisotropic: Option<AnisotropicFigures>,
     /// The summed error with zero noise (x0's mean and the known input alone).
     pub deterministic_error: f64,
 }
@@ -66,16 +66,34 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let seconds = t.elapsed().as_secs_f64();
             let worst = worst_case(exp, &design.realization)
                 .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
-            let anisotropic_norm_sq = match exp.anisotropy {
-                Some(a) => {
-                    Some(crate::anisotropy::realization_norm(&exp.plant, &design.realization, a)?.0.value.powi(2))
-                }
+            let anisotropic = match exp.anisotropy {
+                Some(a) => Some(anisotropic_figures(exp, &design.realization, a)?),
                 None => None,
             };
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
-            Ok(DesignedFilter { design, seconds, worst, anisotropic_norm_sq, deterministic_error })
+            Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error })
         })
         .collect()
+}
+
+/// A filter's exact |||F|||²_a at the experiment's level a and its limits ‖F‖₂²/lw (a = 0) and
+/// ‖F‖∞² (a → ∞), all from the eigenvalues of one Λ = E[𝓕ᵀ𝓕] (seed 003 §2).
+#[derive(Clone, Copy, Debug)]
+pub struct AnisotropicFigures {
+    pub norm_sq: f64,
+    pub h2_sq: f64,
+    pub hinf_sq: f64,
+}
+
+fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<AnisotropicFigures> {
+    let (mu, _) = crate::linalg::sym_eigen(&crate::anisotropy::error_gram(&exp.plant, real))?;
+    let mu: Vec<f64> = mu.into_iter().map(|m| m.max(0.0)).collect();
+    let norm = crate::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?;
+    Ok(AnisotropicFigures {
+        norm_sq: norm.value.powi(2),
+        h2_sq: mu.iter().sum::<f64>() / mu.len() as f64,
+        hinf_sq: mu.iter().cloned().fold(0.0, f64::max),
+    })
 }
 
 /// A filter's exact worst case over the experiment's uncertainty: covariances over their sets

@@ -81,7 +81,7 @@ fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &crate::run::ScenarioOutco
             (st.ci95().1 - st.mean) / p,
             sc.exact[f].total / p,
             (sc.exact[f].total - d.deterministic_error) / p,
-            opt(d.anisotropic_norm_sq),
+            opt(d.anisotropic.map(|x| x.norm_sq)),
             opt(d.design.gain_bound.map(|g| g.gamma_sq)),
         );
     }

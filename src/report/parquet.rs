@@ -102,7 +102,9 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.gain_exact_noise.push(
                 gain.filter(|_| sc.disturbance.is_none()).map(|p| (sc.exact[f].total - d.deterministic_error) / p),
             );
-            c.anisotropic_norm_sq.push(d.anisotropic_norm_sq);
+            c.anisotropic_norm_sq.push(d.anisotropic.map(|x| x.norm_sq));
+            c.h2_norm_sq.push(d.anisotropic.map(|x| x.h2_sq));
+            c.hinf_norm_sq.push(d.anisotropic.map(|x| x.hinf_sq));
             let gb = d.design.gain_bound;
             c.guaranteed_gain.push(gb.map(|g| g.gamma_sq));
             c.guarantee_anisotropy.push(gb.map(|g| g.anisotropy));
@@ -142,6 +144,8 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("deterministic_error", c.deterministic_error),
         col("gain_exact_noise", c.gain_exact_noise),
         col("anisotropic_norm_sq", c.anisotropic_norm_sq),
+        col("h2_norm_sq", c.h2_norm_sq),
+        col("hinf_norm_sq", c.hinf_norm_sq),
         col("guaranteed_gain", c.guaranteed_gain),
         col("guarantee_anisotropy", c.guarantee_anisotropy),
         col("guarantee_applies", c.guarantee_applies),
@@ -182,6 +186,8 @@ struct SummaryCols {
     deterministic_error: Vec<f64>,
     gain_exact_noise: Vec<Option<f64>>,
     anisotropic_norm_sq: Vec<Option<f64>>,
+    h2_norm_sq: Vec<Option<f64>>,
+    hinf_norm_sq: Vec<Option<f64>>,
     guaranteed_gain: Vec<Option<f64>>,
     guarantee_anisotropy: Vec<Option<f64>>,
     guarantee_applies: Vec<Option<bool>>,

@@ -24,10 +24,15 @@ fn gaussian_anisotropy_formula() {
 }
 
 fn check(f: &Mat, name: &str) {
-    let lambda = f.transpose() * f;
-    let lw = f.ncols() as f64;
-    let h2 = f.norm() / lw.sqrt();
-    let hinf = f.singular_values().max();
+    check_gram(&(f.transpose() * f), name);
+}
+
+/// The limits and monotonicity for Λ = E[FᵀF]: ‖F‖₂² = tr Λ and ‖F‖∞² = λmax(Λ) (F may be random).
+pub(crate) fn check_gram(lambda: &Mat, name: &str) {
+    let lambda = lambda.clone();
+    let lw = lambda.ncols() as f64;
+    let h2 = (lambda.trace() / lw).sqrt();
+    let hinf = lambda.symmetric_eigenvalues().max().sqrt();
     let (small, _) = anisotropic_norm(&lambda, 1e-12).unwrap();
     assert!((small.value - h2).abs() <= 1e-4 * h2, "{name}: a → 0 gives {} vs ‖F‖₂/√lw {h2}", small.value);
     // The gap to ‖F‖∞ closes like e^{−2a/(lw−1)}: "a → ∞" is a = 50 lw here.

@@ -178,3 +178,31 @@ fn time_varying_c_of_the_wrong_length_or_size() {
     let t = text.replacen("[[1.0, 0.000000, 1.000000]]", "[[1.0, 0.000000]]", 1);
     fails_cleanly(&t, &["plant.C_steps[0]", "1×3"]);
 }
+
+#[test]
+fn bad_dropouts_anisotropy_and_variants() {
+    let base = crate::common::text("aniso_dropout").replace("horizon = 200", "horizon = 10");
+    fails_cleanly(&base.replace("arrival = 0.97", "arrival = 1.5"), &["plant.arrival", "probability in (0, 1]"]);
+    fails_cleanly(
+        &base.replace("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", "anisotropy = -1.0\n\n[[filters]]\nname = \"h2"),
+        &["filters.anisotropic.anisotropy", "≥ 0"],
+    );
+    fails_cleanly(&base.replace("anisotropy = \"inf\"", "anisotropy = \"infinite\""), &["hinf_suboptimal", "\"inf\""]);
+    fails_cleanly(&base.replace("pattern = \"prediction\"", "pattern = \"filtering\""), &["anisotropic", "predictor"]);
+    fails_cleanly(
+        &base.replace("x0 = [[0.0, 0.0], [0.0, 0.0]]", "x0 = [[1.0, 0.0], [0.0, 1.0]]"),
+        &["anisotropic", "x(0) known"],
+    );
+    fails_cleanly(
+        &base.replace("kind = \"coloured\", anisotropy = 60.0", "kind = \"coloured\", anisotropy = -2.0"),
+        &["scenarios.coloured_beyond_design.input.anisotropy", "≥ 0"],
+    );
+    fails_cleanly(
+        &base.replace("plant = { arrival = 0.99 }", "plant = { arival = 0.99 }"),
+        &["variant `p=0.99`", "unknown field `arival`"],
+    );
+    fails_cleanly(
+        &base.replace("plant = { arrival = 0.95 }", "plant = { arrival = 0.0 }"),
+        &["variant `p=0.95`", "plant.arrival"],
+    );
+}

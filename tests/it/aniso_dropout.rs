@@ -1,0 +1,230 @@
+//! Seed 003: measurement dropouts, the exact Λ = E[𝓕ᵀ𝓕], the anisotropic generators, the
+//! anisotropic SDP synthesis and the intermittent minimum-variance predictor.
+//!
+//! Tolerances: Monte Carlo figures within 4σ (σ = the standard error of the mean; a few dozen
+//! comparisons per test, family-wise below 0.3 %); sample covariances entrywise within 4.5σ
+//! (σ_ij = sqrt((Σ_ii Σ_jj + Σ_ij²)/n) for Gaussian draws; 903 entries, family-wise about 0.6 %);
+//! deterministic identities to rounding (1e-9 relative); the SDP's guarantee to the solver's
+//! tolerance (1e-6 relative).
+
+use filterbench::anisotropy::{coloured_covariance, error_gram, gaussian_anisotropy, realization_norm};
+use filterbench::exact;
+use filterbench::families::{anisotropic, intermittent, kalman};
+use filterbench::linalg::{Mat, Vector, block_diag, psd_factor};
+use filterbench::noise::{JointInput, NoiseSampler, Shape, trial_rng};
+use filterbench::spec::{self, Experiment, Pattern};
+
+use crate::common;
+
+/// The shapes test plant with dropouts (p = 0.7) and anisotropic inputs added.
+fn dropout_shapes(pattern: &str) -> Experiment {
+    let text = common::SHAPES_TOML
+        .replace("PATTERN", pattern)
+        .replace("known_input = {", "arrival = 0.7\nknown_input = {")
+        .replace("trials = 6000", "trials = 5000")
+        + r#"
+[[scenarios]]
+name = "coloured"
+input = { kind = "coloured", anisotropy = 12.0 }
+
+[[scenarios]]
+name = "worst_for_kalman"
+input = { kind = "anisotropic_worst_for", filter = "kalman", anisotropy = 4.0 }
+"#;
+    spec::parse("dropout_shapes", "dropout_shapes.toml", &text).expect("test plant parses")
+}
+
+/// The experiment's variant `variant` (e.g. "p=0.95").
+fn variant(variant: &str, trials: usize) -> Experiment {
+    let path = format!("{}/experiments/aniso_dropout.toml", env!("CARGO_MANIFEST_DIR"));
+    let mut e = spec::load_variants(std::path::Path::new(&path))
+        .expect("aniso_dropout parses")
+        .into_iter()
+        .find(|e| e.variant.as_deref() == Some(variant))
+        .expect("variant exists");
+    e.trials = trials;
+    e
+}
+
+#[test]
+fn dropouts_exact_matches_monte_carlo_in_both_patterns() {
+    // Filtering makes Df ≠ 0, so the dropout also multiplies the output map (the H1 terms).
+    crate::exact_vs_mc::check(&dropout_shapes("prediction"));
+    crate::exact_vs_mc::check(&dropout_shapes("filtering"));
+}
+
+#[test]
+fn lambda_agrees_with_the_forward_moment_recursion() {
+    for pattern in ["prediction", "filtering"] {
+        let exp = dropout_shapes(pattern);
+        let pat = if pattern == "filtering" { Pattern::Filtering } else { Pattern::Prediction };
+        let real = kalman::kalman(&exp.plant, &exp.nominal, pat);
+        let lambda = exact::second_moment_operator(&exp.plant, &real);
+        let d = lambda.nrows();
+        let JointInput::Correlated { factor } = JointInput::random_covariance(&Mat::identity(d, d), 11) else {
+            unreachable!()
+        };
+        let sigma = &factor * factor.transpose();
+        let forward = exact::error_joint(&exp.plant, &real, &Vector::zeros(d), &sigma).unwrap().total;
+        // E|e|² = tr(ΛΣ) + the deterministic part (x0's mean and r): no cross term, since the input
+        // has zero mean and is independent of the dropouts.
+        let via_lambda = (&lambda * &sigma).trace() + exact::deterministic_error(&exp.plant, &real);
+        assert!(
+            (forward - via_lambda).abs() <= 1e-9 * forward,
+            "{pattern}: forward {forward} vs tr(ΛΣ) + deterministic {via_lambda}"
+        );
+        // White nominal noise through the joint path equals the white recursion.
+        let white = block_diag(&[
+            exp.nominal.x0(),
+            &Mat::identity(exp.plant.steps(), exp.plant.steps()).kronecker(&exp.nominal.w()),
+        ]);
+        let joint = exact::error_joint(&exp.plant, &real, &Vector::zeros(d), &white).unwrap().total;
+        let direct = exact::error(&exp.plant, &real, &exp.nominal).total;
+        assert!((joint - direct).abs() <= 1e-9 * direct, "{pattern}: joint white {joint} vs white {direct}");
+    }
+}
+
+#[test]
+fn norm_limits_on_random_dropout_systems() {
+    for seed in 0..3u64 {
+        let exp = dropout_shapes("prediction");
+        let mut plant = exp.plant.clone();
+        plant.horizon = 6;
+        plant.known_input.truncate(6);
+        plant.arrival = Some(0.5 + 0.1 * seed as f64);
+        let real = kalman::kalman(&plant, &exp.nominal, Pattern::Prediction);
+        crate::anisotropy::check_gram(&error_gram(&plant, &real), &format!("dropout system {seed}"));
+    }
+}
+
+/// The experiment's plant on a shorter horizon (the SDP sweep is then quick).
+fn short(p: &str, horizon: usize) -> Experiment {
+    let mut e = variant(p, 100);
+    e.plant.horizon = horizon;
+    e.plant.known_input.truncate(horizon);
+    e
+}
+
+#[test]
+fn synthesized_norm_within_gamma_and_gamma_monotone_in_a() {
+    let exp = short("p=0.95", 40);
+    let mut last = 0.0;
+    for level in [
+        anisotropic::Level::Anisotropy(0.0),
+        anisotropic::Level::Anisotropy(2.0),
+        anisotropic::Level::Anisotropy(8.0),
+        anisotropic::Level::Anisotropy(30.0),
+        anisotropic::Level::Hinf,
+    ] {
+        let syn = anisotropic::synthesize(&exp.plant, level).expect("feasible");
+        let real = anisotropic::realization(&exp.plant, &syn);
+        let norm_sq = match level {
+            anisotropic::Level::Anisotropy(a) => realization_norm(&exp.plant, &real, a).unwrap().0.value.powi(2),
+            anisotropic::Level::Hinf => error_gram(&exp.plant, &real).symmetric_eigenvalues().max(),
+        };
+        eprintln!("{level:?}: γ² = {:.6}, exact norm² = {norm_sq:.6}", syn.gamma_sq);
+        assert!(norm_sq <= syn.gamma_sq * (1.0 + 1e-6), "{level:?}: norm² {norm_sq} > γ² {}", syn.gamma_sq);
+        assert!(syn.gamma_sq >= last * (1.0 - 1e-6), "{level:?}: γ² {} below the smaller level's {last}", syn.gamma_sq);
+        last = syn.gamma_sq;
+    }
+}
+
+#[test]
+fn coloured_and_worst_generators_hit_anisotropy_power_and_covariance() {
+    let w = Mat::from_row_slice(2, 2, &[1.0, 0.3, 0.3, 0.5]);
+    let steps = 21;
+    let white = steps as f64 * gaussian_anisotropy(&w);
+    for a in [white, white + 0.5, white + 10.0, white + 60.0] {
+        let (sigma, rho) = coloured_covariance(&w, steps, a).unwrap();
+        assert!((gaussian_anisotropy(&sigma) - a).abs() <= 1e-9 * a.max(1.0), "a = {a}, ρ = {rho}");
+        assert!((sigma.trace() - steps as f64 * w.trace()).abs() <= 1e-12 * sigma.trace());
+    }
+    assert!(coloured_covariance(&w, steps, white - 0.1).is_err(), "below white noise's anisotropy");
+
+    // Sample covariance of the draws, through the sampler the engine uses (x0 block zero).
+    let exp = short("p=0.95", steps - 1);
+    let real = kalman::kalman(&exp.plant, &exp.nominal, Pattern::Prediction);
+    let (_, worst) = realization_norm(&exp.plant, &real, 5.0).unwrap();
+    let (coloured, _) = coloured_covariance(&exp.nominal.w(), steps, 8.0).unwrap();
+    for (name, sigma) in [("coloured", coloured), ("worst for Kalman", worst)] {
+        let factor = block_diag(&[&Mat::zeros(2, 2), &psd_factor(&sigma)]);
+        let sampler = NoiseSampler::new(&exp.plant, &exp.nominal, &Shape::Gaussian)
+            .with_joint(Some(JointInput::Correlated { factor }));
+        let mut draw = sampler.workspace();
+        let n = 20000;
+        let lw = sigma.nrows();
+        let mut acc = Mat::zeros(lw, lw);
+        for t in 0..n {
+            let mut rng = trial_rng(5, 0, t);
+            sampler.draw_into(&mut rng, &mut draw);
+            let v = Vector::from_column_slice(draw.w.as_slice());
+            acc += &v * v.transpose();
+        }
+        acc /= n as f64;
+        let mut worst_z: f64 = 0.0;
+        for i in 0..lw {
+            for j in 0..=i {
+                let se = ((sigma[(i, i)] * sigma[(j, j)] + sigma[(i, j)].powi(2)) / n as f64).sqrt();
+                worst_z = worst_z.max((acc[(i, j)] - sigma[(i, j)]).abs() / se);
+            }
+        }
+        eprintln!("{name}: largest entrywise |z| {worst_z:.2}");
+        assert!(worst_z <= 4.5, "{name}: sample covariance off by {worst_z:.2}σ");
+    }
+}
+
+#[test]
+fn monte_carlo_gain_under_worst_inputs_matches_trace_formula() {
+    let mut exp = variant("p=0.95", 3000);
+    // The guarantee and tr(ΛΣ)/tr Σ concern the noise alone: no known input here.
+    exp.plant.known_input.clear();
+    exp.scenarios.retain(|s| s.name.starts_with("worst_for_"));
+    let out = filterbench::run::run(&exp, false).unwrap();
+    let a = exp.anisotropy.unwrap();
+    let grams: Vec<Mat> = out.filters.iter().map(|f| error_gram(&exp.plant, &f.design.realization)).collect();
+    for sc in &out.scenarios {
+        let owner = exp.filters.iter().position(|f| sc.name == format!("worst_for_{}", f.name)).unwrap();
+        let (norm, sigma) = realization_norm(&exp.plant, &out.filters[owner].design.realization, a).unwrap();
+        for (f, spec) in exp.filters.iter().enumerate() {
+            let expected = (&grams[f] * &sigma).trace() / sigma.trace();
+            let st = &sc.mc.filters[f].total;
+            let (gain, se) = (st.mean / sc.input_power, st.std_error() / sc.input_power);
+            let z = (gain - expected) / se;
+            assert!(z.abs() <= 4.0, "{}/{}: gain {gain} vs tr(ΛΣ)/trΣ {expected}: {z:.2}σ", sc.name, spec.name);
+            if f == owner {
+                assert!((expected - norm.value.powi(2)).abs() <= 1e-9 * expected, "the owner's gain is its norm²");
+            }
+        }
+    }
+    // Each SDP filter's exact norm at the design level is within its γ².
+    for (f, d) in out.filters.iter().enumerate() {
+        if let Some(g) = d.design.gain_bound {
+            let norm_sq = if g.anisotropy.is_finite() {
+                realization_norm(&exp.plant, &d.design.realization, g.anisotropy).unwrap().0.value.powi(2)
+            } else {
+                grams[f].symmetric_eigenvalues().max()
+            };
+            assert!(norm_sq <= g.gamma_sq * (1.0 + 1e-6), "{}: {norm_sq} > γ² {}", exp.filters[f].name, g.gamma_sq);
+        }
+    }
+}
+
+#[test]
+fn intermittent_riccati_is_its_exact_error_and_without_dropouts_is_kalman() {
+    let exp = variant("p=0.95", 100);
+    let (real, predicted) = intermittent::predictor(&exp.plant, &exp.nominal);
+    let exact = exact::error(&exp.plant, &real, &exp.nominal).total;
+    assert!((predicted - exact).abs() <= 1e-9 * exact, "Riccati {predicted} vs exact {exact}");
+    // Perturbing its gain at one step makes it worse (it is the minimum-variance filter of its form).
+    let mut worse = real.clone();
+    worse.steps[50].bf[(0, 0)] += 0.05;
+    worse.steps[50].af = &exp.plant.a - 0.95 * &worse.steps[50].bf * &exp.plant.c;
+    assert!(exact::error(&exp.plant, &worse, &exp.nominal).total > exact);
+    let mut plant = exp.plant.clone();
+    plant.arrival = None;
+    let (mv, _) = intermittent::predictor(&plant, &exp.nominal);
+    let kf = kalman::kalman(&plant, &exp.nominal, Pattern::Prediction);
+    for (a, b) in mv.steps.iter().zip(&kf.steps) {
+        assert!((&a.bf - &b.bf).amax() <= 1e-12 && (&a.af - &b.af).amax() <= 1e-12);
+    }
+}
