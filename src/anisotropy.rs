@@ -93,11 +93,11 @@ pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> 
 /// Λ_w = E[𝓕ᵀ𝓕] of a realization's error system from W = col(w[0..N]) (lw = mw(N+1)) to the
 /// counted errors, x0 fixed at its mean and the known input set aside (seed 003 §2; exact with
 /// dropouts, [`crate::exact::second_moment_operator`]).
-pub fn error_gram(plant: &crate::plant::Plant, real: &crate::realization::Realization) -> Mat {
-    let full = crate::exact::second_moment_operator(plant, real);
+pub fn error_gram(plant: &crate::plant::Plant, real: &crate::realization::Realization) -> Result<Mat> {
+    let full = crate::exact::second_moment_operator(plant, real)?;
     let n = plant.nx();
     let lw = full.nrows() - n;
-    full.view((n, n), (lw, lw)).into_owned()
+    Ok(full.view((n, n), (lw, lw)).into_owned())
 }
 
 /// A realization's exact a-anisotropic norm (SPEC §5) with the worst input covariance Σ(q) over
@@ -107,7 +107,7 @@ pub fn realization_norm(
     real: &crate::realization::Realization,
     a: f64,
 ) -> Result<(AnisotropicNorm, Mat)> {
-    anisotropic_norm(&error_gram(plant, real), a)
+    anisotropic_norm(&error_gram(plant, real)?, a)
 }
 
 /// Σ = T(ρ) ⊗ W: each component an AR(1) sequence in time, w[k] = ρ w[k−1] + sqrt(1−ρ²) v[k] started

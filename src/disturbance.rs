@@ -102,7 +102,7 @@ fn response(plant: &Plant, real: &Realization, offset: usize, m: usize) -> Mat {
             next += 1;
         }
     }
-    let aug: Vec<_> = (0..steps).map(|k| crate::exact::augmented(plant, real, k)).collect();
+    let aug: Vec<_> = (0..steps).map(|k| crate::exact::augmented(plant, real, k, 0)).collect();
     let mut l = Mat::zeros(next * nz, steps * m);
     for k0 in 0..steps {
         for j in 0..m {
@@ -138,6 +138,12 @@ pub fn worst(plant: &Plant, real: &Realization, dist: &[Option<Disturbance>]) ->
     let bl = blocks(plant, dist);
     if bl.is_empty() {
         return Ok(None);
+    }
+    if plant.modes.is_some() {
+        return Err(crate::error::Error::invalid(
+            "disturbances",
+            "the worst deterministic disturbance is computed for a plant that does not switch (no dropouts, no modes)",
+        ));
     }
     let steps = plant.steps();
     let mut best_parts = Vec::new();

@@ -62,10 +62,10 @@ pub fn operator(plant: &Plant, real: &Realization, s: &Mat) -> Result<Mat> {
 /// Ψ with the chosen last block of rows (see [`Terminal`]).
 pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> Result<Mat> {
     let (n, nz, nw, nn) = (plant.nx(), plant.nz(), plant.nw(), plant.horizon);
-    if plant.arrival.is_some() {
+    if plant.modes.is_some() {
         return Err(Error::invalid(
-            "plant.arrival",
-            "the generalized H∞ operator Ψ is deterministic only when every measurement arrives; with dropouts use the anisotropic analysis (Λ = E[𝓕ᵀ𝓕])",
+            "plant",
+            "the generalized H∞ operator Ψ is deterministic only for a plant that does not switch (no dropouts, no modes); with dropouts use the anisotropic analysis (Λ = E[𝓕ᵀ𝓕])",
         ));
     }
     let s_half = match terminal {
@@ -79,7 +79,7 @@ pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> R
     };
     let last_rows = if s_half.is_some() { n } else { nz };
     let ns = real.ns();
-    let aug: Vec<Augmented> = (0..plant.steps()).map(|k| augmented(plant, real, k)).collect();
+    let aug: Vec<Augmented> = (0..plant.steps()).map(|k| augmented(plant, real, k, 0)).collect();
     let mut psi = Mat::zeros(nn * nz + last_rows, n + nn * nw);
     for j in 0..n {
         let mut xi = Vector::zeros(n + ns);

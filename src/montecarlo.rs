@@ -144,13 +144,14 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
     }
     for k in 0..p.steps() {
         let wk = ws.draw.w.column(k);
-        ws.y.gemv(ws.draw.arrived[k], p.c_at(k), &ws.x, 0.0);
-        ws.y.gemv(1.0, p.d_at(k), &wk, 1.0);
+        let theta = ws.draw.modes[k];
+        ws.y.gemv(1.0, p.c_of(k, theta), &ws.x, 0.0);
+        ws.y.gemv(1.0, p.d_of(k, theta), &wk, 1.0);
         ws.z.gemv(1.0, &p.cz, &ws.x, 0.0);
         ws.z.gemv(1.0, &p.dz, &wk, 1.0);
         let r = p.r_at(k);
         for (f, real) in sc.filters.iter().enumerate() {
-            real.output(k, &ws.s[f], &ws.y, &mut ws.zhat);
+            real.output(k, theta, &ws.s[f], &ws.y, &mut ws.zhat);
             visit(k, f, &ws.z, &ws.zhat);
             if let Some(ez) = ws.ez.get_mut(f) {
                 let mut col = ez.column_mut(k);
@@ -158,13 +159,13 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
                 col -= &ws.zhat;
             }
             if k < p.horizon {
-                real.advance(k, &ws.s[f], &ws.y, r, &mut ws.s_next[f]);
+                real.advance(k, theta, &ws.s[f], &ws.y, r, &mut ws.s_next[f]);
                 std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
             }
         }
         if k < p.horizon {
-            ws.x_next.gemv(1.0, &p.a, &ws.x, 0.0);
-            ws.x_next.gemv(1.0, &p.b, &wk, 1.0);
+            ws.x_next.gemv(1.0, p.a_of(theta), &ws.x, 0.0);
+            ws.x_next.gemv(1.0, p.b_of(theta), &wk, 1.0);
             if let Some(r) = r {
                 ws.x_next += r;
             }
@@ -283,8 +284,8 @@ pub struct Trajectory {
     pub trial: u64,
     pub z: Mat,
     pub zhat: Vec<Mat>,
-    /// λ[k]: 0 at the dropout instants (all 1 without dropouts).
-    pub arrived: Vec<f64>,
+    /// θ[k], the plant's mode at each step (for dropouts 0 = lost).
+    pub modes: Vec<usize>,
 }
 
 /// Re-runs trials 0..count (same streams as in [`run`]) and records their trajectories.
@@ -297,7 +298,7 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
                 trial: t,
                 z: Mat::zeros(nz, steps),
                 zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
-                arrived: Vec::new(),
+                modes: Vec::new(),
             };
             run_trial(sc, &mut ws, t, |k, f, z, zhat| {
                 if f == 0 {
@@ -305,7 +306,7 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
                 }
                 tr.zhat[f].set_column(k, zhat);
             });
-            tr.arrived = ws.draw.arrived.clone();
+            tr.modes = ws.draw.modes.clone();
             tr
         })
         .collect()

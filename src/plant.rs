@@ -8,9 +8,15 @@
 //! `w` stacks named noise blocks (seed 000: `w = (ε, w_meas)`, `B = [b 0]`, `D = [0 d]`); each block
 //! has its own covariance, so an uncertainty set can constrain one block and leave the others fixed.
 //!
-//! Measurement dropouts (seed 003 (4.30), SPEC §0): with `arrival = Some(p)` the measurement is
-//! y[k] = λ[k] C x[k] + D w[k] with λ[k] ~ Bernoulli(p) independent over k and of the noise, i.e.
-//! C[k] = p C + (λ[k] − p) C: a multiplicative noise ζ = (λ − p)/sqrt(p(1 − p)) on C.
+//! Markov-switching matrices (seed 001, SPEC §3): with `modes` the plant uses A_θ, B_θ, C_θ, D_θ of
+//! the mode θ[k] of a finite Markov chain with transition matrix Π (Π[s][k] = P(θ[n+1] = k | θ[n] = s))
+//! and initial distribution p(0), independent of x0 and of the noise.
+//!
+//! Measurement dropouts (seed 003 (4.30), SPEC §0) are the two-mode case of independent modes: with
+//! `arrival = Some(p)` the measurement is y[k] = λ[k] C x[k] + D w[k], λ[k] ~ Bernoulli(p), i.e.
+//! mode 0 ("lost", C_0 = 0) with probability 1 − p and mode 1 ("arrived", C_1 = C) with probability p,
+//! every row of Π equal to (1 − p, p). Equivalently C[k] = p C + (λ[k] − p) C, the multiplicative
+//! noise form the anisotropic family is written in.
 
 use crate::linalg::{Mat, Vector, block_diag};
 
@@ -37,7 +43,10 @@ pub struct Plant {
     /// when C is constant.
     pub c_steps: Vec<Mat>,
     /// Probability p that a measurement arrives (λ[k] = 1); None when every measurement arrives.
+    /// Set with [`Plant::set_arrival`], which also builds the two modes.
     pub arrival: Option<f64>,
+    /// The Markov modes, if the matrices switch (dropouts included).
+    pub modes: Option<Modes>,
     c_none: Mat,
     d_none: Mat,
 }
@@ -74,6 +83,7 @@ impl Plant {
             sum_from: 0,
             c_steps: Vec::new(),
             arrival: None,
+            modes: None,
             c_none,
             d_none,
         }
@@ -112,6 +122,61 @@ impl Plant {
     pub fn dropout_variance(&self) -> f64 {
         self.arrival.map_or(0.0, |p| p * (1.0 - p))
     }
+    /// Makes the measurement arrive with probability p: the two modes of the module docs.
+    pub fn set_arrival(&mut self, p: f64) {
+        self.arrival = Some(p);
+        let lost = Mat::zeros(self.c.nrows(), self.c.ncols());
+        self.modes = Some(Modes {
+            names: vec!["lost".into(), "arrived".into()],
+            transition: Mat::from_row_slice(2, 2, &[1.0 - p, p, 1.0 - p, p]),
+            initial: vec![1.0 - p, p],
+            a: vec![self.a.clone(); 2],
+            b: vec![self.b.clone(); 2],
+            c: vec![lost, self.c.clone()],
+            d: vec![self.d.clone(); 2],
+        });
+    }
+    /// Number of modes (1 for a plant that does not switch).
+    pub fn n_modes(&self) -> usize {
+        self.modes.as_ref().map_or(1, |m| m.names.len())
+    }
+    pub fn a_of(&self, mode: usize) -> &Mat {
+        self.modes.as_ref().map_or(&self.a, |m| &m.a[mode])
+    }
+    pub fn b_of(&self, mode: usize) -> &Mat {
+        self.modes.as_ref().map_or(&self.b, |m| &m.b[mode])
+    }
+    /// C_θ[k]: zero before the first measurement.
+    pub fn c_of(&self, k: usize, mode: usize) -> &Mat {
+        match &self.modes {
+            Some(m) if self.measured(k) => &m.c[mode],
+            _ => self.c_at(k),
+        }
+    }
+    /// D_θ[k]: zero before the first measurement.
+    pub fn d_of(&self, k: usize, mode: usize) -> &Mat {
+        match &self.modes {
+            Some(m) if self.measured(k) => &m.d[mode],
+            _ => self.d_at(k),
+        }
+    }
+    /// p(k) = P(θ[k] = ·) for k = 0..N ([1] for a plant that does not switch).
+    pub fn mode_probabilities(&self) -> Vec<Vec<f64>> {
+        let Some(m) = &self.modes else { return vec![vec![1.0]; self.steps()] };
+        let mut out = Vec::with_capacity(self.steps());
+        let mut p = m.initial.clone();
+        for _ in 0..self.steps() {
+            let next = (0..p.len()).map(|k| (0..p.len()).map(|s| p[s] * m.transition[(s, k)]).sum()).collect();
+            out.push(std::mem::replace(&mut p, next));
+        }
+        out
+    }
+    /// Whether θ[k] are independent over k with one distribution (every row of Π equal to p(0)).
+    pub fn independent_modes(&self) -> bool {
+        self.modes.as_ref().is_none_or(|m| {
+            (0..m.transition.nrows()).all(|s| (0..m.initial.len()).all(|k| m.transition[(s, k)] == m.initial[k]))
+        })
+    }
     /// E λ[k] = p (1 without dropouts).
     pub fn arrival_mean(&self) -> f64 {
         self.arrival.unwrap_or(1.0)
@@ -127,6 +192,38 @@ impl Plant {
     /// Names of the covariance blocks: "x0" first, then the noise blocks of w.
     pub fn block_names(&self) -> Vec<&str> {
         std::iter::once("x0").chain(self.noise_blocks.iter().map(|(n, _)| n.as_str())).collect()
+    }
+}
+
+/// A finite Markov chain and the plant's matrices in each of its modes.
+#[derive(Clone, Debug)]
+pub struct Modes {
+    pub names: Vec<String>,
+    /// Π[s][k] = P(θ[n+1] = k | θ[n] = s): rows sum to 1.
+    pub transition: Mat,
+    /// p(0) = P(θ[0] = ·).
+    pub initial: Vec<f64>,
+    pub a: Vec<Mat>,
+    pub b: Vec<Mat>,
+    pub c: Vec<Mat>,
+    pub d: Vec<Mat>,
+}
+
+impl Modes {
+    /// The stationary distribution of an ergodic chain (power iteration on pᵀΠ, started at p(0));
+    /// None if it does not settle (a periodic or reducible chain may not).
+    pub fn stationary(&self) -> Option<Vec<f64>> {
+        let q = self.initial.len();
+        let mut p = vec![1.0 / q as f64; q];
+        for _ in 0..100_000 {
+            let next: Vec<f64> = (0..q).map(|k| (0..q).map(|s| p[s] * self.transition[(s, k)]).sum()).collect();
+            let diff = next.iter().zip(&p).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            p = next;
+            if diff < 1e-15 {
+                return Some(p);
+            }
+        }
+        None
     }
 }
 

@@ -4,7 +4,8 @@
 //!     ẑ[k]   = Cf[k] s[k] + Df[k] y[k]
 //!
 //! with s[0] = s0 and gains that do not depend on the data. The Monte Carlo engine and the exact
-//! analysis only ever see this.
+//! analysis only ever see this. A mode-indexed realization (seed 001) has one set of gains per
+//! (step, mode) and at step k uses those of the mode θ[k] it observes.
 
 use crate::error::{Error, Result};
 use crate::linalg::{Mat, Vector};
@@ -27,25 +28,41 @@ pub struct Realization {
     pub s0: Vector,
     /// Gains for k = 0..=N (the Af, Bf, Gf of step N are never used).
     pub steps: Vec<Gains>,
+    /// Mode-indexed gains [k][mode], replacing `steps` when not empty.
+    pub by_mode: Vec<Vec<Gains>>,
 }
 
 impl Realization {
+    pub fn new(s0: Vector, steps: Vec<Gains>) -> Self {
+        Realization { s0, steps, by_mode: Vec::new() }
+    }
+    /// A realization that uses the gains of the observed mode: `by_mode[k][θ]`.
+    pub fn mode_indexed(s0: Vector, by_mode: Vec<Vec<Gains>>) -> Self {
+        let steps = by_mode.iter().map(|g| g[0].clone()).collect();
+        Realization { s0, steps, by_mode }
+    }
+    /// The gains of step k in mode θ.
+    #[inline]
+    pub fn gains(&self, k: usize, mode: usize) -> &Gains {
+        if self.by_mode.is_empty() { &self.steps[k] } else { &self.by_mode[k][mode] }
+    }
+
     pub fn ns(&self) -> usize {
         self.s0.len()
     }
 
-    /// ẑ[k] = Cf s + Df y, written into `zhat`.
+    /// ẑ[k] = Cf s + Df y in mode θ, written into `zhat`.
     #[inline]
-    pub fn output(&self, k: usize, s: &Vector, y: &Vector, zhat: &mut Vector) {
-        let g = &self.steps[k];
+    pub fn output(&self, k: usize, mode: usize, s: &Vector, y: &Vector, zhat: &mut Vector) {
+        let g = self.gains(k, mode);
         zhat.gemv(1.0, &g.cf, s, 0.0);
         zhat.gemv(1.0, &g.df, y, 1.0);
     }
 
-    /// s[k+1] = Af s + Bf y + Gf r, written into `next`.
+    /// s[k+1] = Af s + Bf y + Gf r in mode θ, written into `next`.
     #[inline]
-    pub fn advance(&self, k: usize, s: &Vector, y: &Vector, r: Option<&Vector>, next: &mut Vector) {
-        let g = &self.steps[k];
+    pub fn advance(&self, k: usize, mode: usize, s: &Vector, y: &Vector, r: Option<&Vector>, next: &mut Vector) {
+        let g = self.gains(k, mode);
         next.gemv(1.0, &g.af, s, 0.0);
         next.gemv(1.0, &g.bf, y, 1.0);
         if let Some(r) = r {
@@ -62,7 +79,13 @@ impl Realization {
             ));
         }
         let ns = self.ns();
-        for (k, g) in self.steps.iter().enumerate() {
+        if !self.by_mode.is_empty()
+            && (self.by_mode.len() != plant.steps() || self.by_mode.iter().any(|g| g.len() != plant.n_modes()))
+        {
+            return Err(Error::design(name, format!("mode-indexed gains need {} modes at each step", plant.n_modes())));
+        }
+        let modal = self.by_mode.iter().enumerate().flat_map(|(k, gs)| gs.iter().map(move |g| (k, g)));
+        for (k, g) in self.steps.iter().enumerate().chain(modal) {
             let ok = g.af.shape() == (ns, ns)
                 && g.bf.shape() == (ns, plant.ny())
                 && g.cf.shape() == (plant.nz(), ns)

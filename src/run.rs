@@ -86,7 +86,7 @@ pub struct AnisotropicFigures {
 }
 
 fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<AnisotropicFigures> {
-    let (mu, _) = crate::linalg::sym_eigen(&crate::anisotropy::error_gram(&exp.plant, real))?;
+    let (mu, _) = crate::linalg::sym_eigen(&crate::anisotropy::error_gram(&exp.plant, real)?)?;
     let mu: Vec<f64> = mu.into_iter().map(|m| m.max(0.0)).collect();
     let norm = crate::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?;
     Ok(AnisotropicFigures {

@@ -619,7 +619,10 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         if !(pa > 0.0 && pa <= 1.0) {
             return Err(Error::invalid("plant.arrival", format!("a probability in (0, 1] is needed, got {pa}")));
         }
-        plant.arrival = Some(pa);
+        if !p.C_steps.as_ref().is_none_or(Vec::is_empty) {
+            return Err(Error::invalid("plant.arrival", "dropouts with a time-varying C (C_steps) are not supported"));
+        }
+        plant.set_arrival(pa);
     }
     let nominal = Covariances { blocks };
 

@@ -154,7 +154,7 @@ pub fn realization(plant: &Plant, syn: &Synthesis) -> Realization {
             gf: Mat::identity(plant.nx(), plant.nx()),
         })
         .collect();
-    Realization { s0: plant.x0_mean.clone(), steps }
+    Realization::new(plant.x0_mean.clone(), steps)
 }
 
 /// Solves the LMIs (4.42)–(4.43) with the terminal conditions and the convex determinant

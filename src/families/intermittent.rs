@@ -100,5 +100,5 @@ pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         x = symmetrize(&xn);
         m = mn;
     }
-    (Realization { s0: plant.x0_mean.clone(), steps }, predicted)
+    (Realization::new(plant.x0_mean.clone(), steps), predicted)
 }

@@ -37,8 +37,8 @@ pub struct NoiseSampler {
     w_mean: Option<Mat>,
     /// Inputs drawn jointly over the horizon instead of block by block.
     joint: Option<JointInput>,
-    /// Probability that a measurement arrives (seed 003 dropouts), drawn after the noise.
-    arrival: Option<f64>,
+    /// The Markov chain of the plant's modes (dropouts included), drawn after the noise.
+    chain: Option<crate::plant::Modes>,
 }
 
 /// One trial's draws: the initial state and w[k] as column k of `w`.
@@ -46,8 +46,9 @@ pub struct NoiseSampler {
 pub struct TrialDraw {
     pub x0: Vector,
     pub w: Mat,
-    /// λ[k] ∈ {0, 1}: whether the measurement of step k arrived (all 1 without dropouts).
-    pub arrived: Vec<f64>,
+    /// θ[k], the plant's mode at step k (all 0 for a plant that does not switch; for dropouts
+    /// 0 = lost, 1 = arrived).
+    pub modes: Vec<usize>,
     u0: Vector,
     u: Vector,
     uj: Vector,
@@ -64,7 +65,7 @@ impl NoiseSampler {
             steps: plant.steps(),
             w_mean: None,
             joint: None,
-            arrival: plant.arrival,
+            chain: plant.modes.clone(),
         }
     }
 
@@ -84,7 +85,7 @@ impl NoiseSampler {
         TrialDraw {
             x0: Vector::zeros(self.m0.len()),
             w: Mat::zeros(self.lw.nrows(), self.steps),
-            arrived: vec![1.0; self.steps],
+            modes: vec![0; self.steps],
             u0: Vector::zeros(self.l0.ncols()),
             u: Vector::zeros(self.lw.ncols()),
             uj: Vector::zeros(self.joint.as_ref().map_or(0, JointInput::dim)),
@@ -92,12 +93,28 @@ impl NoiseSampler {
         }
     }
 
-    /// Fills `out` with one trial's draws from `rng`: the noise, then the dropouts.
+    /// Fills `out` with one trial's draws from `rng`: the noise, then the mode sequence
+    /// θ[0] ~ p(0), θ[k+1] ~ Π[θ[k], ·] (seed 001 (11)).
     pub fn draw_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, out: &mut TrialDraw) {
         self.draw_noise(rng, out);
-        if let Some(p) = self.arrival {
-            for l in out.arrived.iter_mut() {
-                *l = if rand::RngExt::random::<f64>(rng) < p { 1.0 } else { 0.0 };
+        if let Some(chain) = &self.chain {
+            let pick = |rng: &mut R, p: &mut dyn Iterator<Item = f64>| {
+                let u: f64 = rand::RngExt::random(rng);
+                let mut acc = 0.0;
+                let mut last = 0;
+                for (i, pi) in p.enumerate() {
+                    acc += pi;
+                    last = i;
+                    if u < acc {
+                        return i;
+                    }
+                }
+                last
+            };
+            let mut theta = pick(rng, &mut chain.initial.iter().copied());
+            for m in out.modes.iter_mut() {
+                *m = theta;
+                theta = pick(rng, &mut chain.transition.row(theta).iter().copied());
             }
         }
     }

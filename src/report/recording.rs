@@ -40,11 +40,9 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], path: &Path) -> Result<()> {
 
 type RecResult = std::result::Result<(), rerun::RecordingStreamError>;
 
-/// Marks the dropout instants of a trial as points on `entity`'s series (values at those steps).
-fn dropouts(rec: &rerun::RecordingStream, entity: &str, arrived: &[f64], value: impl Fn(usize) -> f64) -> RecResult {
-    if arrived.iter().all(|a| *a == 1.0) {
-        return Ok(());
-    }
+/// Marks the dropout instants of a trial (mode 0 of a dropout plant) as points on `entity`'s
+/// series (values at those steps).
+fn dropouts(rec: &rerun::RecordingStream, entity: &str, modes: &[usize], value: impl Fn(usize) -> f64) -> RecResult {
     rec.log_static(
         entity,
         &rerun::SeriesPoints::new()
@@ -52,8 +50,8 @@ fn dropouts(rec: &rerun::RecordingStream, entity: &str, arrived: &[f64], value: 
             .with_marker_sizes([4.0])
             .with_names(["dropout"]),
     )?;
-    for (k, a) in arrived.iter().enumerate() {
-        if *a == 0.0 {
+    for (k, m) in modes.iter().enumerate() {
+        if *m == 0 {
             rec.set_time_sequence("step", k as i64);
             rec.log(entity, &rerun::Scalars::single(value(k)))?;
         }
@@ -93,8 +91,17 @@ fn write_run(rec: &rerun::RecordingStream, exp: &Experiment, out: &RunOutcome, p
                         )?;
                     }
                 }
-                dropouts(rec, &format!("{base}/dropouts"), &tr.arrived, |k| tr.z[(j, k)])?;
-                dropouts(rec, &format!("{ebase}/dropouts"), &tr.arrived, |k| tr.z[(j, k)] - tr.zhat[0][(j, k)])?;
+                if exp.plant.arrival.is_some() {
+                    dropouts(rec, &format!("{base}/dropouts"), &tr.modes, |k| tr.z[(j, k)])?;
+                    dropouts(rec, &format!("{ebase}/dropouts"), &tr.modes, |k| tr.z[(j, k)] - tr.zhat[0][(j, k)])?;
+                }
+            }
+            if exp.plant.arrival.is_none() && exp.plant.modes.is_some() {
+                let base = format!("{prefix}trajectories/{}/trial_{}/mode", part(&sc.name), tr.trial);
+                for (k, m) in tr.modes.iter().enumerate() {
+                    rec.set_time_sequence("step", k as i64);
+                    rec.log(base.as_str(), &rerun::Scalars::single(*m as f64))?;
+                }
             }
         }
     }

@@ -59,7 +59,7 @@ fn lambda_agrees_with_the_forward_moment_recursion() {
         let exp = dropout_shapes(pattern);
         let pat = if pattern == "filtering" { Pattern::Filtering } else { Pattern::Prediction };
         let real = kalman::kalman(&exp.plant, &exp.nominal, pat);
-        let lambda = exact::second_moment_operator(&exp.plant, &real);
+        let lambda = exact::second_moment_operator(&exp.plant, &real).unwrap();
         let d = lambda.nrows();
         let JointInput::Correlated { factor } = JointInput::random_covariance(&Mat::identity(d, d), 11) else {
             unreachable!()
@@ -91,9 +91,9 @@ fn norm_limits_on_random_dropout_systems() {
         let mut plant = exp.plant.clone();
         plant.horizon = 6;
         plant.known_input.truncate(6);
-        plant.arrival = Some(0.5 + 0.1 * seed as f64);
+        plant.set_arrival(0.5 + 0.1 * seed as f64);
         let real = kalman::kalman(&plant, &exp.nominal, Pattern::Prediction);
-        crate::anisotropy::check_gram(&error_gram(&plant, &real), &format!("dropout system {seed}"));
+        crate::anisotropy::check_gram(&error_gram(&plant, &real).unwrap(), &format!("dropout system {seed}"));
     }
 }
 
@@ -120,7 +120,7 @@ fn synthesized_norm_within_gamma_and_gamma_monotone_in_a() {
         let real = anisotropic::realization(&exp.plant, &syn);
         let norm_sq = match level {
             anisotropic::Level::Anisotropy(a) => realization_norm(&exp.plant, &real, a).unwrap().0.value.powi(2),
-            anisotropic::Level::Hinf => error_gram(&exp.plant, &real).symmetric_eigenvalues().max(),
+            anisotropic::Level::Hinf => error_gram(&exp.plant, &real).unwrap().symmetric_eigenvalues().max(),
         };
         eprintln!("{level:?}: γ² = {:.6}, exact norm² = {norm_sq:.6}", syn.gamma_sq);
         assert!(norm_sq <= syn.gamma_sq * (1.0 + 1e-6), "{level:?}: norm² {norm_sq} > γ² {}", syn.gamma_sq);
@@ -181,7 +181,7 @@ fn monte_carlo_gain_under_worst_inputs_matches_trace_formula() {
     exp.scenarios.retain(|s| s.name.starts_with("worst_for_"));
     let out = filterbench::run::run(&exp, false).unwrap();
     let a = exp.anisotropy.unwrap();
-    let grams: Vec<Mat> = out.filters.iter().map(|f| error_gram(&exp.plant, &f.design.realization)).collect();
+    let grams: Vec<Mat> = out.filters.iter().map(|f| error_gram(&exp.plant, &f.design.realization).unwrap()).collect();
     for sc in &out.scenarios {
         let owner = exp.filters.iter().position(|f| sc.name == format!("worst_for_{}", f.name)).unwrap();
         let (norm, sigma) = realization_norm(&exp.plant, &out.filters[owner].design.realization, a).unwrap();
@@ -222,6 +222,7 @@ fn intermittent_riccati_is_its_exact_error_and_without_dropouts_is_kalman() {
     assert!(exact::error(&exp.plant, &worse, &exp.nominal).total > exact);
     let mut plant = exp.plant.clone();
     plant.arrival = None;
+    plant.modes = None;
     let (mv, _) = intermittent::predictor(&plant, &exp.nominal);
     let kf = kalman::kalman(&plant, &exp.nominal, Pattern::Prediction);
     for (a, b) in mv.steps.iter().zip(&kf.steps) {

@@ -59,9 +59,9 @@ fn worst_input_attains_the_norm() {
         let w = xi.rows(n + k * nw, nw).into_owned();
         let y = pl.c_at(k) * &x + pl.d_at(k) * &w;
         let z = &pl.cz * &x;
-        r.output(k, &st, &y, &mut zhat);
+        r.output(k, 0, &st, &y, &mut zhat);
         num += (z - &zhat).norm_squared();
-        r.advance(k, &st, &y, pl.r_at(k), &mut next);
+        r.advance(k, 0, &st, &y, pl.r_at(k), &mut next);
         st.copy_from(&next);
         x = &pl.a * &x + &pl.b * &w + pl.r_at(k).cloned().unwrap_or_else(|| Vector::zeros(n));
     }
