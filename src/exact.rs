@@ -64,6 +64,8 @@ fn modal(plant: &Plant, real: &Realization, k: usize) -> Vec<Augmented> {
 pub struct ExactError {
     pub per_step: Vec<f64>,
     pub total: f64,
+    /// Σ_k E[|e[k]|² 1{θ[k] = j}] over the counted steps, per mode j (one entry without modes).
+    pub per_mode: Vec<f64>,
 }
 
 /// The exact error of `real` on `plant` when x0 and w have the covariances `cov` (any distribution).
@@ -154,6 +156,7 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
     let mut y: Vec<Mat> = probs[0].iter().map(|p| &y0 * *p).collect();
     let mut z: Vec<Option<Mat>> = probs[0].iter().map(|p| z0.as_ref().map(|z| z * *p)).collect();
     let mut per_step = Vec::with_capacity(plant.steps());
+    let mut per_mode = vec![0.0; q];
     for k in 0..plant.steps() {
         let augs = modal(plant, real, k);
         // The moments of w[k]: mean μ and raw second moment R (zero when w[k] is not drawn).
@@ -171,6 +174,7 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
         let r = plant.r_at(k);
         let mut mse = 0.0;
         let mut next: Vec<(Vector, Mat, Option<Mat>)> = Vec::with_capacity(q);
+        let counted = plant.counts(k);
         for (j, a) in augs.iter().enumerate() {
             let pj = probs[k][j];
             // E[ξ w[k]ᵀ 1{θ = j}]: from the cross moment, or m_j μᵀ when w[k] is independent of ξ.
@@ -179,9 +183,13 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
                 (Some(_), None) => Mat::zeros(nxi, nw),
                 (None, _) => &m[j] * mu.transpose(),
             };
-            mse += (&a.h * &y[j] * a.h.transpose()).trace()
+            let ej = (&a.h * &y[j] * a.h.transpose()).trace()
                 + 2.0 * (&a.h * &zk * a.g.transpose()).trace()
                 + pj * (&a.g * &rkk * a.g.transpose()).trace();
+            mse += ej;
+            if counted {
+                per_mode[j] += ej;
+            }
             if k == plant.horizon {
                 continue;
             }
@@ -227,7 +235,7 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
         }
     }
     let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
-    ExactError { per_step, total }
+    ExactError { per_step, total, per_mode }
 }
 
 /// Λ = E[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w[0..N]) to col(e[k], k counted), the

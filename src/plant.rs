@@ -210,20 +210,32 @@ pub struct Modes {
 }
 
 impl Modes {
-    /// The stationary distribution of an ergodic chain (power iteration on pᵀΠ, started at p(0));
-    /// None if it does not settle (a periodic or reducible chain may not).
+    /// The stationary distribution of an ergodic chain: the distribution reached from every
+    /// starting mode (power iteration on pᵀΠ); None if the starts do not all settle on one
+    /// distribution (a reducible or periodic chain).
     pub fn stationary(&self) -> Option<Vec<f64>> {
-        let q = self.initial.len();
-        let mut p = vec![1.0 / q as f64; q];
-        for _ in 0..100_000 {
-            let next: Vec<f64> = (0..q).map(|k| (0..q).map(|s| p[s] * self.transition[(s, k)]).sum()).collect();
-            let diff = next.iter().zip(&p).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            p = next;
-            if diff < 1e-15 {
-                return Some(p);
+        let q = self.initial.len().max(self.transition.nrows());
+        let settle = |start: usize| -> Option<Vec<f64>> {
+            let mut p = vec![0.0; q];
+            p[start] = 1.0;
+            for _ in 0..200_000 {
+                let next: Vec<f64> = (0..q).map(|k| (0..q).map(|s| p[s] * self.transition[(s, k)]).sum()).collect();
+                let diff = next.iter().zip(&p).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                p = next;
+                if diff < 1e-15 {
+                    return Some(p);
+                }
+            }
+            None
+        };
+        let first = settle(0)?;
+        for s in 1..q {
+            let other = settle(s)?;
+            if other.iter().zip(&first).any(|(a, b)| (a - b).abs() > 1e-9) {
+                return None;
             }
         }
-        None
+        Some(first)
     }
 }
 

@@ -35,6 +35,7 @@ struct ExperimentFile {
     /// Total anisotropy a at which every filter's exact a-anisotropic norm is reported (seed 003).
     anisotropy: Option<f64>,
     plant: PlantFile,
+    modes: Option<ModesFile>,
     nominal: BTreeMap<String, Rows>,
     #[serde(default)]
     sets: BTreeMap<String, SetFile>,
@@ -73,6 +74,29 @@ struct PlantFile {
     known_input: Option<KnownInputFile>,
     /// Probability p that a measurement arrives (seed 003: y = λ C x + D w, λ ~ Bernoulli(p)).
     arrival: Option<f64>,
+}
+
+/// Markov-switching matrices (seed 001): the chain and each mode's overrides of the plant's A, B,
+/// C, D (a matrix not given is the plant's).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ModesFile {
+    /// Π[s][k] = P(θ[n+1] = k | θ[n] = s).
+    transition: Rows,
+    /// p(0); default the stationary distribution.
+    initial: Option<Vec<f64>>,
+    mode: Vec<ModeFile>,
+}
+
+#[allow(non_snake_case)]
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ModeFile {
+    name: String,
+    A: Option<Rows>,
+    B: Option<Rows>,
+    C: Option<Rows>,
+    D: Option<Rows>,
 }
 
 #[derive(Deserialize)]
@@ -624,6 +648,15 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         }
         plant.set_arrival(pa);
     }
+    if let Some(mf) = &f.modes {
+        if plant.arrival.is_some() {
+            return Err(Error::invalid("modes", "a plant has either dropouts (plant.arrival) or [modes], not both"));
+        }
+        if !plant.c_steps.is_empty() {
+            return Err(Error::invalid("modes", "Markov modes with a time-varying C (C_steps) are not supported"));
+        }
+        plant.modes = Some(resolve_modes(mf, &plant)?);
+    }
     let nominal = Covariances { blocks };
 
     let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
@@ -744,6 +777,69 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         filters,
         source: text.to_string(),
     })
+}
+
+/// Validates a Markov chain and its modes: Π square with one row per mode, non-negative, rows
+/// summing to 1; p(0) likewise (default: the stationary distribution, which must then exist).
+fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<crate::plant::Modes> {
+    let q = mf.mode.len();
+    if q == 0 {
+        return Err(Error::invalid("modes.mode", "list at least one mode"));
+    }
+    let mut names = std::collections::BTreeSet::new();
+    for (i, m) in mf.mode.iter().enumerate() {
+        if !names.insert(m.name.as_str()) {
+            return Err(Error::invalid(format!("modes.mode[{i}].name"), format!("mode name `{}` is repeated", m.name)));
+        }
+    }
+    let pi = from_rows("modes.transition", &mf.transition, Some((q, q)))?;
+    let stochastic = |key: &str, row: &[f64]| -> Result<()> {
+        if row.iter().any(|v| !(*v >= 0.0 && v.is_finite())) {
+            return Err(Error::invalid(key, format!("probabilities must be finite and ≥ 0, got {row:?}")));
+        }
+        let sum: f64 = row.iter().sum();
+        if (sum - 1.0).abs() > 1e-9 {
+            return Err(Error::invalid(key, format!("probabilities must sum to 1, these sum to {sum}")));
+        }
+        Ok(())
+    };
+    for s in 0..q {
+        let row: Vec<f64> = pi.row(s).iter().copied().collect();
+        stochastic(&format!("modes.transition row {} ({})", s + 1, mf.mode[s].name), &row)?;
+    }
+    let (n, nw, ny) = (plant.nx(), plant.nw(), plant.ny());
+    let pick = |key: &str, given: &Option<Rows>, base: &Mat, shape: (usize, usize)| -> Result<Mat> {
+        given.as_ref().map_or(Ok(base.clone()), |r| from_rows(key, r, Some(shape)))
+    };
+    let mut modes = crate::plant::Modes {
+        names: mf.mode.iter().map(|m| m.name.clone()).collect(),
+        transition: pi,
+        initial: Vec::new(),
+        a: Vec::new(),
+        b: Vec::new(),
+        c: Vec::new(),
+        d: Vec::new(),
+    };
+    for m in &mf.mode {
+        let key = |x: &str| format!("modes.{}.{x}", m.name);
+        modes.a.push(pick(&key("A"), &m.A, &plant.a, (n, n))?);
+        modes.b.push(pick(&key("B"), &m.B, &plant.b, (n, nw))?);
+        modes.c.push(pick(&key("C"), &m.C, &plant.c, (ny, n))?);
+        modes.d.push(pick(&key("D"), &m.D, &plant.d, (ny, nw))?);
+    }
+    modes.initial = match &mf.initial {
+        Some(p0) => {
+            if p0.len() != q {
+                return Err(Error::invalid("modes.initial", format!("expected {q} probabilities, found {}", p0.len())));
+            }
+            stochastic("modes.initial", p0)?;
+            p0.clone()
+        }
+        None => modes.stationary().ok_or_else(|| {
+            Error::invalid("modes.initial", "the chain has no unique stationary distribution: give p(0) explicitly")
+        })?,
+    };
+    Ok(modes)
 }
 
 /// The one-line description of an experiment file, for `filterbench list` (None if unreadable).

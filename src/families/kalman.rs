@@ -29,6 +29,37 @@ struct Params {
     /// The covariance the filter is designed at (same forms as a scenario's `covariance`).
     #[serde(default)]
     design: CovChoiceFile,
+    /// `"mode_averaged"`: design on the plant whose matrices are the stationary averages Σ_s π_s A_s,
+    /// … over the Markov modes (a filter that ignores the modes). Default: the plant's base matrices.
+    #[serde(default)]
+    plant: PlantChoice,
+}
+
+#[derive(Deserialize, Default, PartialEq)]
+#[serde(rename_all = "snake_case")]
+enum PlantChoice {
+    #[default]
+    Base,
+    ModeAveraged,
+}
+
+/// The plant with every switching matrix replaced by its stationary average, modes removed.
+fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
+    let m = plant
+        .modes
+        .as_ref()
+        .ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
+    let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
+    let avg =
+        |ms: &[Mat]| ms.iter().zip(&pi).fold(Mat::zeros(ms[0].nrows(), ms[0].ncols()), |acc, (x, p)| acc + *p * x);
+    let mut out = plant.clone();
+    out.a = avg(&m.a);
+    out.b = avg(&m.b);
+    out.c = avg(&m.c);
+    out.d = avg(&m.d);
+    out.modes = None;
+    out.arrival = None;
+    Ok(out)
 }
 
 pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
@@ -39,6 +70,13 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     }
     let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
     let cov = choice.covariances(&key, exp, None)?;
+    if p.plant == PlantChoice::ModeAveraged {
+        let avg = mode_averaged(&exp.plant, &filter.name)?;
+        let mut d = design_at(&avg, cov, exp.pattern);
+        d.guarantee = None;
+        d.diagnostics.insert("plant".into(), "mode-averaged (stationary weights): ignores the modes".into());
+        return Ok(d);
+    }
     Ok(design_at(&exp.plant, cov, exp.pattern))
 }
 
@@ -50,6 +88,9 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
     let mut diagnostics = serde_json::Map::new();
     let guarantee = if plant.arrival.is_some() {
         diagnostics.insert("dropouts".into(), "ignored: designed as if every measurement arrived".into());
+        None
+    } else if plant.modes.is_some() {
+        diagnostics.insert("modes".into(), "ignored: designed on the plant's base matrices".into());
         None
     } else {
         let at_design = exact::error(plant, &realization, &cov);

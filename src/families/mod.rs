@@ -7,6 +7,7 @@ pub mod h2;
 pub mod hinf_lambda;
 pub mod intermittent;
 pub mod kalman;
+pub mod markov_jump;
 pub mod minimax;
 pub mod registry;
 

@@ -1,11 +1,11 @@
 //! Family name → design procedure.
 
-use super::{Design, anisotropic, h2, hinf_lambda, intermittent, kalman, minimax};
+use super::{Design, anisotropic, h2, hinf_lambda, intermittent, kalman, markov_jump, minimax};
 use crate::error::Result;
 use crate::spec::{Experiment, FilterSpec};
 
 /// Every family an experiment file may name.
-pub const FAMILIES: &[&str] = &["kalman", "minimax", "hinf", "h2", "anisotropic", "intermittent"];
+pub const FAMILIES: &[&str] = &["kalman", "minimax", "hinf", "h2", "anisotropic", "intermittent", "markov_jump"];
 
 pub fn is_family(name: &str) -> bool {
     FAMILIES.contains(&name)
@@ -20,6 +20,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         "h2" => h2::design(exp, filter)?,
         "anisotropic" => anisotropic::design(exp, filter)?,
         "intermittent" => intermittent::design(exp, filter)?,
+        "markov_jump" => markov_jump::design(exp, filter)?,
         other => unreachable!("family `{other}` passed validation but has no design procedure"),
     };
     d.realization.check(&filter.name, &exp.plant, exp.pattern)?;

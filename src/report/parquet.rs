@@ -233,12 +233,12 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
 fn gains(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
-    let mut push = |f: &str, k: usize, name: &'static str, m: &nalgebra::DMatrix<f64>| {
+    let mut push = |f: &str, k: usize, md: Option<u32>, name: &'static str, m: &nalgebra::DMatrix<f64>| {
         for j in 0..m.ncols() {
             for i in 0..m.nrows() {
                 fl.push(f.to_string());
                 step.push(k as u32);
-                mode.push(0u32);
+                mode.push(md);
                 mat.push(name);
                 row.push(i as u32);
                 coln.push(j as u32);
@@ -248,13 +248,23 @@ fn gains(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     };
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
         let r = &d.design.realization;
-        push(&spec.name, 0, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
-        for (k, g) in r.steps.iter().enumerate() {
-            push(&spec.name, k, "Af", &g.af);
-            push(&spec.name, k, "Bf", &g.bf);
-            push(&spec.name, k, "Cf", &g.cf);
-            push(&spec.name, k, "Df", &g.df);
-            push(&spec.name, k, "Gf", &g.gf);
+        push(&spec.name, 0, None, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
+        // A mode-indexed realization has one set of gains per (step, mode); others have mode null.
+        let sets: Vec<(usize, Option<u32>, &crate::realization::Gains)> = if r.by_mode.is_empty() {
+            r.steps.iter().enumerate().map(|(k, g)| (k, None, g)).collect()
+        } else {
+            r.by_mode
+                .iter()
+                .enumerate()
+                .flat_map(|(k, gs)| gs.iter().enumerate().map(move |(j, g)| (k, Some(j as u32), g)))
+                .collect()
+        };
+        for (k, md, g) in sets {
+            push(&spec.name, k, md, "Af", &g.af);
+            push(&spec.name, k, md, "Bf", &g.bf);
+            push(&spec.name, k, md, "Cf", &g.cf);
+            push(&spec.name, k, md, "Df", &g.df);
+            push(&spec.name, k, md, "Gf", &g.gf);
         }
     }
     frame(vec![

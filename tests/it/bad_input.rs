@@ -206,3 +206,30 @@ fn bad_dropouts_anisotropy_and_variants() {
         &["variant `p=0.95`", "plant.arrival"],
     );
 }
+
+#[test]
+fn invalid_markov_chains() {
+    let base = crate::common::text("markov_jump");
+    let pi = "transition = [[0.9, 0.08, 0.02], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]";
+    fails_cleanly(
+        &base.replace(pi, "transition = [[0.9, 0.08, 0.03], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]"),
+        &["modes.transition row 1 (left)", "sum to 1"],
+    );
+    fails_cleanly(
+        &base.replace(pi, "transition = [[1.1, -0.1, 0.0], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]"),
+        &["modes.transition row 1 (left)", "≥ 0"],
+    );
+    fails_cleanly(&base.replace(pi, "transition = [[0.9, 0.1], [0.1, 0.9]]"), &["modes.transition", "2"]);
+    fails_cleanly(&base.replace(pi, &format!("{pi}\ninitial = [0.5, 0.5]")), &["modes.initial", "expected 3"]);
+    fails_cleanly(&base.replace(pi, &format!("{pi}\ninitial = [0.5, 0.6, -0.1]")), &["modes.initial", "≥ 0"]);
+    fails_cleanly(&base.replace("C = [[0.0, 0.0]]", "C = [[0.0, 0.0, 1.0]]"), &["modes.sensor_failed.C"]);
+    // A periodic chain has no stationary distribution to start from.
+    fails_cleanly(
+        &base.replace(pi, "transition = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]"),
+        &["modes.initial", "stationary"],
+    );
+    fails_cleanly(
+        &base.replace("pattern = \"prediction\"", "pattern = \"filtering\""),
+        &["mode_dependent", "predictor"],
+    );
+}

@@ -13,5 +13,6 @@ mod exact_vs_mc;
 mod generators;
 mod hinf;
 mod kalman;
+mod markov_jump;
 mod minimax;
 mod sdp;
