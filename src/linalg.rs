@@ -127,6 +127,9 @@ pub fn is_psd(m: &Mat) -> bool {
 pub fn sym_eigen(m: &Mat) -> Result<(Vec<f64>, Mat)> {
     let n = m.nrows();
     let s = symmetrize(m);
+    // faer splits its work by the size of the rayon pool by default, so its rounding (and every
+    // figure downstream of a worst-case covariance) would depend on --threads: run it sequentially.
+    faer::set_global_parallelism(faer::Par::Seq);
     let fm = faer::Mat::<f64>::from_fn(n, n, |i, j| s[(i, j)]);
     let evd = fm
         .self_adjoint_eigen(faer::Side::Lower)

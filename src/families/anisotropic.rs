@@ -131,6 +131,8 @@ fn check_setting(exp: &Experiment, name: &str) -> Result<()> {
         Some("the anisotropic theory takes x(0) known (seed 003 (4.7)): set nominal.x0 to zero")
     } else if p.sum_from != 0 || p.first_measurement != 0 || !p.c_steps.is_empty() {
         Some("the anisotropic design needs sum_from = 0, first_measurement = 0 and a constant C")
+    } else if p.modes.is_some() && p.arrival.is_none() {
+        Some("the anisotropic design covers measurement dropouts (plant.arrival), not general Markov modes")
     } else if p.cz.rank(1e-12) < p.nx() {
         Some("the change of variables needs Cz of full column rank (P2 ⪰ CzᵀCz ≻ 0 makes W, H recoverable)")
     } else {

@@ -39,6 +39,12 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
             "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
         ));
     }
+    if exp.plant.modes.is_some() && exp.plant.arrival.is_none() {
+        return Err(Error::design(
+            &filter.name,
+            "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
+        ));
+    }
     if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
         return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
     }

@@ -16,9 +16,9 @@ use filterbench::spec::{self, Experiment, Pattern};
 
 use crate::common;
 
-/// The shapes test plant with dropouts (p = 0.7) and anisotropic inputs added.
-fn dropout_shapes(pattern: &str) -> Experiment {
-    let text = common::SHAPES_TOML
+/// The shapes test plant with dropouts (p = 0.7) and anisotropic inputs added, as text.
+pub(crate) fn dropout_shapes_text(pattern: &str) -> String {
+    common::SHAPES_TOML
         .replace("PATTERN", pattern)
         .replace("known_input = {", "arrival = 0.7\nknown_input = {")
         .replace("trials = 6000", "trials = 5000")
@@ -30,8 +30,11 @@ input = { kind = "coloured", anisotropy = 12.0 }
 [[scenarios]]
 name = "worst_for_kalman"
 input = { kind = "anisotropic_worst_for", filter = "kalman", anisotropy = 4.0 }
-"#;
-    spec::parse("dropout_shapes", "dropout_shapes.toml", &text).expect("test plant parses")
+"#
+}
+
+pub(crate) fn dropout_shapes(pattern: &str) -> Experiment {
+    spec::parse("dropout_shapes", "dropout_shapes.toml", &dropout_shapes_text(pattern)).expect("test plant parses")
 }
 
 /// The experiment's variant `variant` (e.g. "p=0.95").

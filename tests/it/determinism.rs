@@ -11,9 +11,24 @@ fn run_with(threads: usize, exp: &filterbench::spec::Experiment) -> run::RunOutc
 #[test]
 fn one_and_two_threads_give_identical_bits() {
     // 16,700 trials: more than one wave of 256 blocks of 64 trials, and a partial last block.
-    let exp = common::baseline(16_700);
-    let a = run_with(1, &exp);
-    let b = run_with(2, &exp);
+    identical(&common::baseline(16_700));
+}
+
+#[test]
+fn identical_bits_with_dropouts_and_anisotropic_inputs() {
+    // Mode sequences, and worst-case covariances from faer eigendecompositions large enough
+    // (lw = 453) for faer to split its work by threads if it were allowed to.
+    let text = crate::aniso_dropout::dropout_shapes_text("prediction")
+        .replace("horizon = 20", "horizon = 150")
+        .replace("anisotropy = 12.0", "anisotropy = 80.0");
+    let mut exp = filterbench::spec::parse("dropout_shapes", "t.toml", &text).unwrap();
+    exp.trials = 700;
+    identical(&exp);
+}
+
+fn identical(exp: &filterbench::spec::Experiment) {
+    let a = run_with(1, exp);
+    let b = run_with(2, exp);
     assert_eq!(a.threads, 1);
     assert_eq!(b.threads, 2);
     for (x, y) in a.scenarios.iter().zip(&b.scenarios) {
@@ -24,6 +39,9 @@ fn one_and_two_threads_give_identical_bits() {
         }
         for (t, u) in x.trajectories.iter().zip(&y.trajectories) {
             assert_eq!(t.z, u.z);
+        }
+        for (p, q) in x.exact.iter().zip(&y.exact) {
+            assert_eq!(p.total.to_bits(), q.total.to_bits(), "scenario {}: exact error", x.name);
         }
     }
 }
