@@ -29,8 +29,9 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "bench {}: scenario `{}`, {} filters, N = {}, {} trials, {} thread(s)",
+        "bench {}{}: scenario `{}`, {} filters, N = {}, {} trials, {} thread(s)",
         exp.name,
+        exp.variant.as_deref().map_or(String::new(), |v| format!(" [{v}]")),
         exp.scenarios[0].name,
         reals.len(),
         exp.plant.horizon,
