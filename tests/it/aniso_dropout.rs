@@ -232,3 +232,17 @@ fn intermittent_riccati_is_its_exact_error_and_without_dropouts_is_kalman() {
         assert!((&a.bf - &b.bf).amax() <= 1e-12 && (&a.af - &b.af).amax() <= 1e-12);
     }
 }
+
+#[test]
+fn a_failed_sdp_is_a_clear_error_with_clarabel_status() {
+    // Finite-horizon LMIs are always feasible for η large enough, so a failure is numerical: here
+    // a plant scaled beyond what the interior-point method can represent.
+    let mut exp = short("p=0.95", 5);
+    exp.plant.b *= 1e160;
+    if let Some(m) = exp.plant.modes.as_mut() {
+        m.b.iter_mut().for_each(|b| *b *= 1e160);
+    }
+    let err = anisotropic::synthesize(&exp.plant, anisotropic::Level::Anisotropy(1.0)).err().expect("fails");
+    eprintln!("{err}");
+    assert!(err.contains("clarabel status"), "{err}");
+}
