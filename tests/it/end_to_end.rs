@@ -63,3 +63,33 @@ fn kalman_baseline_writes_the_output_contract() {
     let rrd = std::fs::read(out.join("recording.rrd")).unwrap();
     assert!(rrd.starts_with(b"RRF2"), "an .rrd file starts with Rerun's magic bytes");
 }
+
+#[test]
+fn variants_share_one_set_of_tables_and_one_recording() {
+    let tmp = crate::common::TempDir::new();
+    let out = tmp.path().join("mj");
+    let o = Command::new(BIN)
+        .args(["experiment", "markov_jump", "--trials", "200", "--quiet", "--out", out.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = read(&out.join("summary.parquet"));
+    let col = summary.column("variant").unwrap().str().unwrap().clone();
+    let mut variants: Vec<String> = (0..col.len()).map(|i| col.get(i).unwrap().to_string()).collect();
+    variants.sort();
+    variants.dedup();
+    assert_eq!(variants, ["fast_chain", "slow_chain"]);
+    assert_eq!(summary.height(), 2 * 4 * 4, "2 variants × 4 scenarios × 4 filters");
+    // Mode-indexed gains carry their mode; the mode-averaged Kalman filter's have none.
+    let gains = read(&out.join("gains.parquet"));
+    let modes = gains.column("mode").unwrap().u32().unwrap().clone();
+    let modes: Vec<Option<u32>> = (0..modes.len()).map(|i| modes.get(i)).collect();
+    assert!(modes.contains(&Some(2)), "three modes' gains");
+    assert!(modes.contains(&None), "gains of a filter that does not switch");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["variants"].as_array().unwrap().len(), 2);
+    let loss = manifest["variants"][0]["filters"][2]["diagnostics"]["loss_percent"].as_f64().unwrap();
+    assert!(loss > 0.0, "the common gain loses against mode-dependent gains");
+}
