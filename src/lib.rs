@@ -19,6 +19,7 @@ pub mod run;
 pub mod solve;
 pub mod spec;
 pub mod stats;
+pub mod string;
 pub mod uncertainty;
 
 pub use error::{Error, Result};

@@ -34,15 +34,23 @@ struct ExperimentFile {
     sample_trajectories: usize,
     /// Total anisotropy a at which every filter's exact a-anisotropic norm is reported (seed 003).
     anisotropy: Option<f64>,
-    plant: PlantFile,
+    /// The plant's matrices, or none when `string` generates them.
+    plant: Option<PlantFile>,
+    /// The vibrating string of seed 004 (generates the plant and the nominal covariances).
+    string: Option<crate::string::StringFile>,
     modes: Option<ModesFile>,
+    #[serde(default)]
     nominal: BTreeMap<String, Rows>,
     #[serde(default)]
     sets: BTreeMap<String, SetFile>,
     #[serde(default)]
     disturbances: BTreeMap<String, DisturbanceFile>,
     scenarios: Vec<ScenarioFile>,
+    #[serde(default)]
     filters: Vec<FilterFile>,
+    /// Families of filters over a grid of parameter values, expanded into `filters`.
+    #[serde(default)]
+    filter_sweeps: Vec<SweepFile>,
     /// Patches of this file, each run as its own variant (read by [`load_variants`]).
     #[serde(default)]
     #[allow(dead_code)]
@@ -281,6 +289,56 @@ impl TryFrom<CovChoiceRaw> for CovChoiceFile {
     }
 }
 
+/// `{ name = "template {key}", family, sweep = { key = [values…] }, …fixed parameters }`: one filter
+/// per combination of the swept values (the last key varies fastest), named by the template.
+#[derive(Deserialize)]
+struct SweepFile {
+    name: String,
+    family: String,
+    sweep: toml::Table,
+    #[serde(flatten)]
+    params: toml::Table,
+}
+
+impl SweepFile {
+    fn expand(&self, i: usize) -> Result<Vec<FilterFile>> {
+        let mut combos: Vec<(String, toml::Table)> = vec![(self.name.clone(), self.params.clone())];
+        for (k, values) in &self.sweep {
+            let key = format!("filter_sweeps[{i}].sweep.{k}");
+            let values = values
+                .as_array()
+                .filter(|v| !v.is_empty())
+                .ok_or_else(|| Error::invalid(&key, "a non-empty list of values"))?;
+            if self.params.contains_key(k) {
+                return Err(Error::invalid(key, "is both swept and fixed"));
+            }
+            let placeholder = format!("{{{k}}}");
+            if !self.name.contains(&placeholder) {
+                return Err(Error::invalid(
+                    format!("filter_sweeps[{i}].name"),
+                    format!("must contain {placeholder} so the filters get distinct names"),
+                ));
+            }
+            combos = combos
+                .into_iter()
+                .flat_map(|(name, params)| {
+                    let placeholder = &placeholder;
+                    values.iter().map(move |v| {
+                        let shown = match v {
+                            toml::Value::String(s) => s.clone(),
+                            other => other.to_string(),
+                        };
+                        let mut p = params.clone();
+                        p.insert(k.clone(), v.clone());
+                        (name.replace(placeholder.as_str(), &shown), p)
+                    })
+                })
+                .collect();
+        }
+        Ok(combos.into_iter().map(|(name, params)| FilterFile { name, family: self.family.clone(), params }).collect())
+    }
+}
+
 #[derive(Deserialize)]
 struct FilterFile {
     name: String,
@@ -330,6 +388,8 @@ pub struct Experiment {
     pub filters: Vec<FilterSpec>,
     /// The file text, kept for the manifest.
     pub source: String,
+    /// The string model when the file describes one (seed 004).
+    pub string: Option<crate::string::StringModel>,
 }
 
 impl Experiment {
@@ -394,7 +454,7 @@ pub fn load_variants(path: &Path) -> Result<Vec<Experiment>> {
                 file: file.clone(),
                 message: format!("variant `{name}`: key `{}`: {}", e.path(), e.inner().message().trim()),
             })?;
-        let mut exp = resolve(&base.name, raw, &base.source)
+        let mut exp = resolve_file(&base.name, raw, &base.source)
             .map_err(|e| Error::Parse { file: file.clone(), message: format!("variant `{name}`: {e}") })?;
         exp.variant = Some(name);
         out.push(exp);
@@ -420,7 +480,50 @@ fn merge(doc: &mut toml::Table, patch: toml::Table) {
 /// Parses experiment text; `file` is only used in messages.
 pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
     let raw: ExperimentFile = deserialize(file, text)?;
-    resolve(name, raw, text)
+    resolve_file(name, raw, text)
+}
+
+/// Resolves a file, generating the plant and the nominal covariances first when it describes a
+/// string (seed 004) instead of giving matrices.
+fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Experiment> {
+    let Some(sf) = raw.string.take() else {
+        if raw.plant.is_none() {
+            return Err(Error::invalid("plant", "missing: give [plant] or [string]"));
+        }
+        return resolve(name, raw, text);
+    };
+    if raw.plant.is_some() || !raw.nominal.is_empty() || raw.modes.is_some() {
+        return Err(Error::invalid(
+            "string",
+            "[string] generates the plant and its covariances: remove [plant], [nominal] and [modes]",
+        ));
+    }
+    let model = crate::string::StringModel::from_file(&sf)?;
+    let (plant, cov) = model.plant(sf.duration);
+    let rows = |m: &Mat| -> Rows { (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect() };
+    raw.plant = Some(PlantFile {
+        horizon: plant.horizon,
+        A: rows(&plant.a),
+        B: rows(&plant.b),
+        C: rows(&plant.c),
+        D: rows(&plant.d),
+        Cz: Some(rows(&plant.cz)),
+        Dz: Some(rows(&plant.dz)),
+        x0_mean: None,
+        noise_blocks: plant.noise_blocks.iter().map(|(n, _)| n.clone()).collect(),
+        first_measurement: 0,
+        sum_from: 0,
+        C_steps: None,
+        known_input: None,
+        arrival: None,
+    });
+    for (n, m) in plant.block_names().iter().zip(&cov.blocks) {
+        raw.nominal.insert(n.to_string(), rows(m));
+    }
+    let mut exp = resolve(name, raw, text)?;
+    exp.plant.modal_blocks = true;
+    exp.string = Some(model);
+    Ok(exp)
 }
 
 fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
@@ -475,8 +578,8 @@ pub(crate) fn given_covariances(
     Ok(out)
 }
 
-fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
-    let p = &f.plant;
+fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> {
+    let p = f.plant.as_ref().expect("resolve_file checked the plant");
     if p.horizon == 0 {
         return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
     }
@@ -690,6 +793,11 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         sets[i] = Some(CovSet::new(&key, shape, psd, nom)?);
     }
 
+    let mut filters_in = std::mem::take(&mut f.filters);
+    for (i, sw) in f.filter_sweeps.iter().enumerate() {
+        filters_in.extend(sw.expand(i)?);
+    }
+    f.filters = filters_in;
     if f.filters.is_empty() {
         return Err(Error::invalid("filters", "the experiment names no filter"));
     }
@@ -776,6 +884,7 @@ fn resolve(name: &str, f: ExperimentFile, text: &str) -> Result<Experiment> {
         scenarios,
         filters,
         source: text.to_string(),
+        string: None,
     })
 }
 

@@ -105,12 +105,6 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     diagnostics.insert("clarabel_iterations".into(), syn.iterations.into());
     diagnostics.insert("clarabel_seconds".into(), syn.solve_seconds.into());
     Ok(Design {
-        realization,
-        guarantee: None,
-        design_covariance: None,
-        trace: Vec::new(),
-        diagnostics,
-        per_trial: None,
         gain_bound: Some(super::GainBound {
             gamma_sq: syn.gamma_sq,
             anisotropy: match level {
@@ -118,6 +112,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
                 Level::Hinf => f64::INFINITY,
             },
         }),
+        ..Design::new(realization, diagnostics)
     })
 }
 

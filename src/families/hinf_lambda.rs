@@ -202,12 +202,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     diagnostics.insert("sdp_iterations".into(), iterations.into());
     diagnostics.insert("sdp_seconds".into(), seconds.into());
     Ok(Design {
-        realization,
-        guarantee: None,
-        design_covariance: None,
-        trace: Vec::new(),
-        diagnostics,
         per_trial: Some(PerTrialBound::Ratio { bound: lambda, terminal_weight: s }),
-        gain_bound: None,
+        ..Design::new(realization, diagnostics)
     })
 }

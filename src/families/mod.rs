@@ -3,6 +3,7 @@
 //! in [`registry`].
 
 pub mod anisotropic;
+pub mod galerkin;
 pub mod h2;
 pub mod hinf_lambda;
 pub mod intermittent;
@@ -49,6 +50,21 @@ pub struct Design {
     pub per_trial: Option<PerTrialBound>,
     /// A bound on the mean-square gain over inputs of bounded anisotropy (seed 003).
     pub gain_bound: Option<GainBound>,
+}
+
+impl Design {
+    /// A filter with no promise attached; families add theirs with struct update syntax.
+    pub fn new(realization: Realization, diagnostics: serde_json::Map<String, serde_json::Value>) -> Self {
+        Design {
+            realization,
+            guarantee: None,
+            design_covariance: None,
+            trace: Vec::new(),
+            diagnostics,
+            per_trial: None,
+            gain_bound: None,
+        }
+    }
 }
 
 /// Seed 003's promise: E|Z̃|² ≤ γ² E|W|² for every input W = col(w[0..N]) with anisotropy ≤ a

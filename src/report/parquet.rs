@@ -73,6 +73,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.disturbance.push(sc.disturbance_label.clone());
             c.filter.push(spec.name.clone());
             c.family.push(spec.family.clone());
+            c.params.push(serde_json::to_string(&spec.params).unwrap_or_default());
             c.n_trials.push(st.n);
             c.empirical_mean.push(st.mean);
             c.std_error.push(st.std_error());
@@ -121,6 +122,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("disturbance", c.disturbance),
         col("filter", c.filter),
         col("family", c.family),
+        col("params", c.params),
         col("n_trials", c.n_trials),
         col("empirical_mean", c.empirical_mean),
         col("std_error", c.std_error),
@@ -163,6 +165,7 @@ struct SummaryCols {
     disturbance: Vec<String>,
     filter: Vec<String>,
     family: Vec<String>,
+    params: Vec<String>,
     n_trials: Vec<u64>,
     empirical_mean: Vec<f64>,
     std_error: Vec<f64>,
@@ -229,14 +232,18 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     ])
 }
 
-/// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value.
-fn gains(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
-    let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val) =
+/// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value; entries that
+/// are exactly zero are left out (a Galerkin filter's Gf alone would be 2n × 2M zeros per step).
+fn gains<'a>(exp: &'a Experiment, out: &RunOutcome) -> Result<DataFrame> {
+    let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val): (Vec<&'a str>, _, _, _, _, _, _) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
-    let mut push = |f: &str, k: usize, md: Option<u32>, name: &'static str, m: &nalgebra::DMatrix<f64>| {
+    let mut push = |f: &'a str, k: usize, md: Option<u32>, name: &'static str, m: &nalgebra::DMatrix<f64>| {
         for j in 0..m.ncols() {
             for i in 0..m.nrows() {
-                fl.push(f.to_string());
+                if m[(i, j)] == 0.0 {
+                    continue;
+                }
+                fl.push(f);
                 step.push(k as u32);
                 mode.push(md);
                 mat.push(name);

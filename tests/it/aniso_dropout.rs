@@ -37,18 +37,6 @@ pub(crate) fn dropout_shapes(pattern: &str) -> Experiment {
     spec::parse("dropout_shapes", "dropout_shapes.toml", &dropout_shapes_text(pattern)).expect("test plant parses")
 }
 
-/// The experiment's variant `variant` (e.g. "p=0.95").
-fn variant(variant: &str, trials: usize) -> Experiment {
-    let path = format!("{}/experiments/aniso_dropout.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut e = spec::load_variants(std::path::Path::new(&path))
-        .expect("aniso_dropout parses")
-        .into_iter()
-        .find(|e| e.variant.as_deref() == Some(variant))
-        .expect("variant exists");
-    e.trials = trials;
-    e
-}
-
 #[test]
 fn dropouts_exact_matches_monte_carlo_in_both_patterns() {
     // Filtering makes Df ≠ 0, so the dropout also multiplies the output map (the H1 terms).
@@ -102,7 +90,7 @@ fn norm_limits_on_random_dropout_systems() {
 
 /// The experiment's plant on a shorter horizon (the SDP sweep is then quick).
 fn short(p: &str, horizon: usize) -> Experiment {
-    let mut e = variant(p, 100);
+    let mut e = common::variant("aniso_dropout", p, 100);
     e.plant.horizon = horizon;
     e.plant.known_input.truncate(horizon);
     e
@@ -178,7 +166,7 @@ fn coloured_and_worst_generators_hit_anisotropy_power_and_covariance() {
 
 #[test]
 fn monte_carlo_gain_under_worst_inputs_matches_trace_formula() {
-    let mut exp = variant("p=0.95", 3000);
+    let mut exp = common::variant("aniso_dropout", "p=0.95", 3000);
     // The guarantee and tr(ΛΣ)/tr Σ concern the noise alone: no known input here.
     exp.plant.known_input.clear();
     exp.scenarios.retain(|s| s.name.starts_with("worst_for_"));
@@ -214,7 +202,7 @@ fn monte_carlo_gain_under_worst_inputs_matches_trace_formula() {
 
 #[test]
 fn intermittent_riccati_is_its_exact_error_and_without_dropouts_is_kalman() {
-    let exp = variant("p=0.95", 100);
+    let exp = common::variant("aniso_dropout", "p=0.95", 100);
     let (real, predicted) = intermittent::predictor(&exp.plant, &exp.nominal);
     let exact = exact::error(&exp.plant, &real, &exp.nominal).total;
     assert!((predicted - exact).abs() <= 1e-9 * exact, "Riccati {predicted} vs exact {exact}");

@@ -233,3 +233,17 @@ fn invalid_markov_chains() {
         &["mode_dependent", "predictor"],
     );
 }
+
+#[test]
+fn bad_string_and_galerkin_parameters() {
+    let base = crate::common::text("galerkin_string").replace("truth_modes = 128", "truth_modes = 8");
+    let sweep = "n = [2, 4, 8, 16], alpha = [1e-1, 1e-4, 1e-8, 1e-12]";
+    fails_cleanly(&base.replace(sweep, "n = [2], alpha = [-1e-3]"), &["filters.eigen_n2_alpha-0.001.alpha", "≥ 0"]);
+    fails_cleanly(&base.replace(sweep, "n = [0], alpha = [1e-3]"), &["filters.eigen_n0_alpha0.001.n", "at least 1"]);
+    fails_cleanly(
+        &base.replace("sensors = [0.142857,", "sensors = [1.2,"),
+        &["string.sensors[0]", "leaves the string"],
+    );
+    fails_cleanly(&base.replace("outputs = [0.1,", "outputs = [-0.1,"), &["string.outputs[0]", "outside"]);
+    fails_cleanly(&base.replace("dt = 0.0025", "dt = 0.0"), &["string.dt", "> 0"]);
+}

@@ -15,6 +15,27 @@ pub fn load(name: &str, trials: usize) -> Experiment {
     e
 }
 
+/// The shipped experiment's variant `variant`.
+pub fn variant(name: &str, variant: &str, trials: usize) -> Experiment {
+    let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let mut e = spec::load_variants(std::path::Path::new(&path))
+        .expect("parses")
+        .into_iter()
+        .find(|e| e.variant.as_deref() == Some(variant))
+        .expect("variant exists");
+    e.trials = trials;
+    e
+}
+
+/// `galerkin_string` made small: 32 truth modes, N = 100, n ∈ {2, 4}, α ∈ {1e-1, 1e-8}, 3000 trials.
+pub fn small_string() -> String {
+    text("galerkin_string")
+        .replace("truth_modes = 128", "truth_modes = 32")
+        .replace("duration = 1.0", "duration = 0.25")
+        .replace("n = [2, 4, 8, 16], alpha = [1e-1, 1e-4, 1e-8, 1e-12]", "n = [2, 4], alpha = [1e-1, 1e-8]")
+        .replace("trials = 300", "trials = 3000")
+}
+
 /// The shipped `kalman_baseline` experiment with `trials` trials.
 pub fn baseline(trials: usize) -> Experiment {
     load("kalman_baseline", trials)

@@ -32,6 +32,7 @@ fn kalman_baseline_writes_the_output_contract() {
         "scenario",
         "filter",
         "family",
+        "params",
         "n_trials",
         "empirical_mean",
         "ci_low",
@@ -92,4 +93,32 @@ fn variants_share_one_set_of_tables_and_one_recording() {
     assert_eq!(manifest["variants"].as_array().unwrap().len(), 2);
     let loss = manifest["variants"][0]["filters"][2]["diagnostics"]["loss_percent"].as_f64().unwrap();
     assert!(loss > 0.0, "the common gain loses against mode-dependent gains");
+}
+
+#[test]
+fn galerkin_sweep_labels_its_rows_and_omits_zero_gains() {
+    let tmp = crate::common::TempDir::new();
+    let file = tmp.path().join("string.toml");
+    std::fs::write(&file, crate::common::small_string()).unwrap();
+    let out = tmp.path().join("gs");
+    let o = Command::new(BIN)
+        .args(["experiment", file.to_str().unwrap(), "--trials", "50", "--quiet", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = read(&out.join("summary.parquet"));
+    assert_eq!(summary.height(), 3 * 8, "3 variants × 1 scenario × (2 bases × 2 n × 2 α)");
+    // `params` holds each swept filter's parameters as JSON, so the surface can be pivoted.
+    let (filters, params) =
+        (summary.column("filter").unwrap().str().unwrap(), summary.column("params").unwrap().str().unwrap());
+    for i in 0..summary.height() {
+        let p: serde_json::Value = serde_json::from_str(params.get(i).unwrap()).unwrap();
+        let (head, alpha) = filters.get(i).unwrap().split_once("_alpha").unwrap();
+        assert_eq!(head, format!("{}_n{}", p["basis"].as_str().unwrap(), p["n"]));
+        assert_eq!(alpha.parse::<f64>().unwrap(), p["alpha"].as_f64().unwrap(), "the name and the parameters agree");
+    }
+    let gains = read(&out.join("gains.parquet"));
+    let values = gains.column("value").unwrap().f64().unwrap();
+    assert!((0..values.len()).all(|i| values.get(i) != Some(0.0)), "exact zeros are left out");
+    assert!(std::fs::metadata(out.join("recording.rrd")).unwrap().len() > 0);
 }

@@ -10,6 +10,7 @@ mod determinism;
 mod disturbance;
 mod end_to_end;
 mod exact_vs_mc;
+mod galerkin;
 mod generators;
 mod hinf;
 mod kalman;

@@ -4,22 +4,12 @@ use filterbench::families::markov_jump;
 use filterbench::linalg::Mat;
 use filterbench::spec::{self, Experiment};
 
-/// The shipped experiment's variant `variant`.
-pub(crate) fn variant(name: &str, variant: &str, trials: usize) -> Experiment {
-    let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut e = spec::load_variants(std::path::Path::new(&path))
-        .expect("parses")
-        .into_iter()
-        .find(|e| e.variant.as_deref() == Some(variant))
-        .expect("variant exists");
-    e.trials = trials;
-    e
-}
+use crate::common;
 
 #[test]
 fn common_gain_gradient_matches_finite_differences() {
     for v in ["slow_chain", "fast_chain"] {
-        let exp = variant("markov_jump", v, 100);
+        let exp = common::variant("markov_jump", v, 100);
         let modes = exp.plant.modes.as_ref().unwrap();
         let w = exp.nominal.w();
         let prob = modes.stationary().unwrap();
@@ -98,7 +88,7 @@ fn per_mode_mc(
 #[test]
 fn exact_per_mode_moments_agree_with_monte_carlo() {
     for v in ["slow_chain", "fast_chain"] {
-        let exp = variant("markov_jump", v, 100);
+        let exp = common::variant("markov_jump", v, 100);
         let out = filterbench::run::design_all(&exp).unwrap();
         for (f, d) in out.iter().enumerate() {
             let real = &d.design.realization;
@@ -138,7 +128,7 @@ fn one_mode_is_the_kalman_predictor() {
 #[test]
 fn mode_dependent_beats_common_gain_beats_mode_averaged_kalman() {
     for v in ["slow_chain", "fast_chain"] {
-        let exp = variant("markov_jump", v, 100);
+        let exp = common::variant("markov_jump", v, 100);
         let out = filterbench::run::design_all(&exp).unwrap();
         let exact = |name: &str| {
             let i = exp.filter_index(name).unwrap();
