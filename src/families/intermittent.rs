@@ -14,9 +14,8 @@
 
 use serde::Deserialize;
 
-use super::{Design, Guarantee};
+use super::Design;
 use crate::error::{Error, Result};
-use crate::exact;
 use crate::linalg::{Mat, psd_pinv, symmetrize};
 use crate::noise::CovChoice;
 use crate::plant::{Covariances, Plant};
@@ -51,22 +50,9 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
     let cov = choice.covariances(&key, exp, None)?;
     let (realization, predicted) = predictor(&exp.plant, &cov);
-    let at_design = exact::error(&exp.plant, &realization, &cov);
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("riccati_summed_error".into(), predicted.into());
-    Ok(Design {
-        realization,
-        guarantee: Some(Guarantee {
-            kind: "exact_at_design".into(),
-            total: at_design.total,
-            per_step: at_design.per_step,
-        }),
-        design_covariance: Some(cov),
-        trace: Vec::new(),
-        diagnostics,
-        per_trial: None,
-        gain_bound: None,
-    })
+    Ok(Design::exact_at_design(&exp.plant, realization, cov, diagnostics))
 }
 
 /// The predictor of the module docs and the summed error its Riccati recursion predicts,

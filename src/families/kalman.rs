@@ -14,9 +14,8 @@
 
 use serde::Deserialize;
 
-use super::{Design, Guarantee};
+use super::Design;
 use crate::error::{Error, Result};
-use crate::exact;
 use crate::linalg::{Mat, psd_pinv, symmetrize};
 use crate::noise::CovChoice;
 use crate::plant::{Covariances, Plant};
@@ -86,24 +85,19 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
 pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
     let realization = kalman(plant, &cov, pattern);
     let mut diagnostics = serde_json::Map::new();
-    let guarantee = if plant.arrival.is_some() {
-        diagnostics.insert("dropouts".into(), "ignored: designed as if every measurement arrived".into());
-        None
+    let ignored = if plant.arrival.is_some() {
+        Some(("dropouts", "ignored: designed as if every measurement arrived"))
     } else if plant.modes.is_some() {
-        diagnostics.insert("modes".into(), "ignored: designed on the plant's base matrices".into());
-        None
+        Some(("modes", "ignored: designed on the plant's base matrices"))
     } else {
-        let at_design = exact::error(plant, &realization, &cov);
-        Some(Guarantee { kind: "exact_at_design".into(), total: at_design.total, per_step: at_design.per_step })
+        None
     };
-    Design {
-        realization,
-        guarantee,
-        design_covariance: Some(cov),
-        trace: Vec::new(),
-        diagnostics,
-        per_trial: None,
-        gain_bound: None,
+    match ignored {
+        Some((key, what)) => {
+            diagnostics.insert(key.into(), what.into());
+            Design { design_covariance: Some(cov), ..Design::new(realization, diagnostics) }
+        }
+        None => Design::exact_at_design(plant, realization, cov, diagnostics),
     }
 }
 

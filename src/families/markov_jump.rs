@@ -19,7 +19,7 @@
 
 use serde::Deserialize;
 
-use super::{Design, Guarantee, TraceRow};
+use super::{Design, TraceRow};
 use crate::error::{Error, Result};
 use crate::linalg::{Mat, psd_pinv, symmetrize};
 use crate::noise::CovChoice;
@@ -91,23 +91,10 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
             constant(plant, &vec![c.k; modes.names.len()])
         }
     };
-    let at_design = crate::exact::error(plant, &realization, &cov);
     if p.gains == GainsKind::Finite {
         diagnostics.insert("riccati_summed_error".into(), finite(plant, &cov).1.into());
     }
-    Ok(Design {
-        realization,
-        guarantee: Some(Guarantee {
-            kind: "exact_at_design".into(),
-            total: at_design.total,
-            per_step: at_design.per_step,
-        }),
-        design_covariance: Some(cov),
-        trace,
-        diagnostics,
-        per_trial: None,
-        gain_bound: None,
-    })
+    Ok(Design { trace, ..Design::exact_at_design(plant, realization, cov, diagnostics) })
 }
 
 /// (15)–(16) on the horizon: the mode-indexed predictor and the summed error its recursion

@@ -65,6 +65,21 @@ impl Design {
             gain_bound: None,
         }
     }
+
+    /// A filter designed at `cov` that promises its exact error there (`exact_at_design`).
+    pub fn exact_at_design(
+        plant: &crate::plant::Plant,
+        realization: Realization,
+        cov: Covariances,
+        diagnostics: serde_json::Map<String, serde_json::Value>,
+    ) -> Self {
+        let at = crate::exact::error(plant, &realization, &cov);
+        Design {
+            guarantee: Some(Guarantee { kind: "exact_at_design".into(), total: at.total, per_step: at.per_step }),
+            design_covariance: Some(cov),
+            ..Design::new(realization, diagnostics)
+        }
+    }
 }
 
 /// Seed 003's promise: E|Z̃|² ≤ γ² E|W|² for every input W = col(w[0..N]) with anisotropy ≤ a
