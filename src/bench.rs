@@ -18,6 +18,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let ratios = run::ratio_check(exp, &filters);
     let sc = montecarlo::Scenario {
         plant: &exp.plant,
+        ops: &montecarlo::PlantOps::new(&exp.plant),
         filters: &reals,
         sampler: &sampler,
         seed: exp.seed,

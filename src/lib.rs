@@ -10,6 +10,7 @@ pub mod exact;
 pub mod families;
 pub mod hinf;
 pub mod linalg;
+pub mod linop;
 pub mod montecarlo;
 pub mod noise;
 pub mod plant;

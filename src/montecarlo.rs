@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::families::PerTrialBound;
 use crate::linalg::{Mat, Vector};
+use crate::linop::LinOp;
 use crate::noise::{NoiseSampler, TrialDraw, trial_rng};
 use crate::plant::Plant;
 use crate::realization::Realization;
@@ -76,12 +77,64 @@ impl McStats {
 /// What the engine needs to run one scenario.
 pub struct Scenario<'a> {
     pub plant: &'a Plant,
+    /// The plant's matrices as the trial loop applies them.
+    pub ops: &'a PlantOps,
     pub filters: &'a [&'a Realization],
     pub sampler: &'a NoiseSampler,
     pub seed: u64,
     pub index: usize,
     /// Per-trial ratio checks (seed 002), if any filter has one.
     pub ratios: Option<&'a RatioCheck<'a>>,
+}
+
+/// The plant's matrices as [`LinOp`]s (sparse when large and mostly zero), each distinct matrix
+/// converted once: A_θ, B_θ per mode, C_θ[k], D_θ[k] per step and mode, Cz, Dz.
+pub struct PlantOps {
+    ops: Vec<LinOp>,
+    modes: usize,
+    a: Vec<usize>,
+    b: Vec<usize>,
+    c: Vec<usize>,
+    d: Vec<usize>,
+    cz: usize,
+    dz: usize,
+}
+
+impl PlantOps {
+    pub fn new(plant: &Plant) -> Self {
+        let mut ops = Vec::new();
+        let mut seen = std::collections::HashMap::<*const Mat, usize>::new();
+        let mut index = |m: &Mat| {
+            *seen.entry(m as *const Mat).or_insert_with(|| {
+                ops.push(LinOp::new(m));
+                ops.len() - 1
+            })
+        };
+        let modes = plant.modes.as_ref().map_or(1, |m| m.a.len());
+        let a = (0..modes).map(|s| index(plant.a_of(s))).collect();
+        let b = (0..modes).map(|s| index(plant.b_of(s))).collect();
+        let (mut c, mut d) = (Vec::new(), Vec::new());
+        for k in 0..plant.steps() {
+            for s in 0..modes {
+                c.push(index(plant.c_of(k, s)));
+                d.push(index(plant.d_of(k, s)));
+            }
+        }
+        let (cz, dz) = (index(&plant.cz), index(&plant.dz));
+        PlantOps { ops, modes, a, b, c, d, cz, dz }
+    }
+    fn a(&self, mode: usize) -> &LinOp {
+        &self.ops[self.a[mode]]
+    }
+    fn b(&self, mode: usize) -> &LinOp {
+        &self.ops[self.b[mode]]
+    }
+    fn c(&self, k: usize, mode: usize) -> &LinOp {
+        &self.ops[self.c[k * self.modes + mode]]
+    }
+    fn d(&self, k: usize, mode: usize) -> &LinOp {
+        &self.ops[self.d[k * self.modes + mode]]
+    }
 }
 
 /// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w[k], k < N) and, per filter, its
@@ -145,10 +198,11 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
     for k in 0..p.steps() {
         let wk = ws.draw.w.column(k);
         let theta = ws.draw.modes[k];
-        ws.y.gemv(1.0, p.c_of(k, theta), &ws.x, 0.0);
-        ws.y.gemv(1.0, p.d_of(k, theta), &wk, 1.0);
-        ws.z.gemv(1.0, &p.cz, &ws.x, 0.0);
-        ws.z.gemv(1.0, &p.dz, &wk, 1.0);
+        let ops = sc.ops;
+        ops.c(k, theta).apply(1.0, &ws.x, 0.0, &mut ws.y);
+        ops.d(k, theta).apply(1.0, &wk, 1.0, &mut ws.y);
+        ops.ops[ops.cz].apply(1.0, &ws.x, 0.0, &mut ws.z);
+        ops.ops[ops.dz].apply(1.0, &wk, 1.0, &mut ws.z);
         let r = p.r_at(k);
         for (f, real) in sc.filters.iter().enumerate() {
             real.output(k, theta, &ws.s[f], &ws.y, &mut ws.zhat);
@@ -164,8 +218,8 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
             }
         }
         if k < p.horizon {
-            ws.x_next.gemv(1.0, p.a_of(theta), &ws.x, 0.0);
-            ws.x_next.gemv(1.0, p.b_of(theta), &wk, 1.0);
+            ops.a(theta).apply(1.0, &ws.x, 0.0, &mut ws.x_next);
+            ops.b(theta).apply(1.0, &wk, 1.0, &mut ws.x_next);
             if let Some(r) = r {
                 ws.x_next += r;
             }

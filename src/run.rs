@@ -213,6 +213,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let covs = scenario_covariances(exp, &filters)?;
     let reals: Vec<&crate::realization::Realization> = filters.iter().map(|f| &f.design.realization).collect();
     let ratios = ratio_check(exp, &filters);
+    let ops = montecarlo::PlantOps::new(&exp.plant);
 
     let total = exp.trials as u64 * exp.scenarios.len() as u64;
     let bar = if show_progress {
@@ -244,6 +245,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
         let sampler = NoiseSampler::new(&exp.plant, &cov, &s.shape).with_mean(w_mean.clone()).with_joint(joint.clone());
         let sc = montecarlo::Scenario {
             plant: &exp.plant,
+            ops: &ops,
             filters: &reals,
             sampler: &sampler,
             seed: exp.seed,

@@ -8,6 +8,7 @@ use rand_chacha::ChaCha8Rng;
 use super::joint::JointInput;
 use super::shape::{Shape, StandardDraw};
 use crate::linalg::{Mat, Vector, psd_factor};
+use crate::linop::LinOp;
 use crate::plant::{Covariances, Plant};
 
 /// The random stream of one trial. It depends on (seed, scenario, trial) only, never on the thread
@@ -30,7 +31,7 @@ fn splitmix(mut z: u64) -> u64 {
 pub struct NoiseSampler {
     m0: Vector,
     l0: Mat,
-    lw: Mat,
+    lw: LinOp,
     draw: StandardDraw,
     steps: usize,
     /// Deterministic part of w[k] (column k), if any: energy-bounded disturbances.
@@ -60,7 +61,7 @@ impl NoiseSampler {
         NoiseSampler {
             m0: plant.x0_mean.clone(),
             l0: psd_factor(cov.x0()),
-            lw: psd_factor(&cov.w()),
+            lw: LinOp::new(&psd_factor(&cov.w())),
             draw: shape.sampler(),
             steps: plant.steps(),
             w_mean: None,
@@ -143,7 +144,7 @@ impl NoiseSampler {
             for v in out.u.iter_mut() {
                 *v = self.draw.draw(rng);
             }
-            out.w.column_mut(k).gemv(1.0, &self.lw, &out.u, 0.0);
+            self.lw.apply(1.0, &out.u, 0.0, &mut out.w.column_mut(k));
         }
         if let Some(m) = &self.w_mean {
             out.w += m;

@@ -111,3 +111,26 @@ fn block_recursion_equals_the_dense_lyapunov_recursion() {
         }
     }
 }
+
+/// The trial loop applies the string's large, mostly-zero matrices (A, B) in sparse form: the same
+/// numbers as nalgebra's dense gemv, to rounding, in the two ways the loop calls them.
+#[test]
+fn sparse_plant_matrices_give_the_dense_products() {
+    use filterbench::linalg::{Mat, Vector};
+    use filterbench::linop::LinOp;
+    let exp = small();
+    for m in [&exp.plant.a, &exp.plant.b] {
+        let op = LinOp::new(m);
+        assert!(matches!(op, LinOp::Sparse(_)), "a {}×{} modal matrix is stored sparse", m.nrows(), m.ncols());
+        let x = Vector::from_fn(m.ncols(), |i, _| (i as f64 * 0.37).sin());
+        for beta in [0.0, 1.0] {
+            let mut y = Vector::from_fn(m.nrows(), |i, _| (i as f64 * 0.11).cos());
+            let mut want = y.clone();
+            op.apply(1.0, &x, beta, &mut y);
+            want.gemv(1.0, m, &x, beta);
+            assert!((&y - &want).amax() <= 1e-14 * want.amax(), "β = {beta}");
+        }
+    }
+    assert!(matches!(LinOp::new(&Mat::from_element(40, 40, 1.0)), LinOp::Dense(_)), "dense stays dense");
+    assert!(matches!(LinOp::new(&Mat::identity(8, 8)), LinOp::Dense(_)), "small stays dense");
+}
