@@ -82,10 +82,11 @@ pub fn mean_error(plant: &Plant, real: &Realization, w_mean: &Mat) -> f64 {
 /// As [`error`], with w[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
 pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> ExactError {
     let w = cov.w();
-    let no_mean =
-        w_mean.is_none() && plant.known_input.is_empty() && plant.x0_mean.amax() == 0.0 && real.s0.amax() == 0.0;
-    if plant.modal_blocks && plant.modes.is_none() && no_mean {
-        return propagate_modal(plant, real, cov.x0(), &w);
+    if plant.modes.is_none() && !has_mean(plant, real, w_mean) && plant.nx() >= MODAL_MIN_STATES {
+        let bwb = &plant.b * &w * plant.b.transpose();
+        if [&plant.a, cov.x0(), &bwb].into_iter().all(two_by_two_block_diagonal) {
+            return propagate_modal(plant, real, cov.x0(), &w, &bwb);
+        }
     }
     propagate(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &Input::White { w: &w, mean: w_mean })
 }
@@ -93,7 +94,16 @@ pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_m
 /// The summed error with no noise at all: what x0's mean and the known input alone cost (with
 /// dropouts the known input's trajectory is multiplied by λ − p, so this is not zero).
 pub fn deterministic_error(plant: &Plant, real: &Realization) -> f64 {
+    if !has_mean(plant, real, None) {
+        return 0.0;
+    }
     error(plant, real, &zero_covariances(plant)).total
+}
+
+/// Whether anything in the augmented state has a nonzero mean: x0's, the filter's start s0, the
+/// known input or a deterministic sequence in w.
+fn has_mean(plant: &Plant, real: &Realization, w_mean: Option<&Mat>) -> bool {
+    w_mean.is_some() || !plant.known_input.is_empty() || plant.x0_mean.amax() != 0.0 || real.s0.amax() != 0.0
 }
 
 fn zero_covariances(plant: &Plant) -> Covariances {
@@ -243,9 +253,19 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
     ExactError { per_step, total, per_mode }
 }
 
-/// The recursion of [`propagate`] for a plant with `modal_blocks` (a modal truth, seed 004): the
-/// state covariance stays block diagonal (independent 2×2 oscillators), so only its blocks P_b, the
-/// cross covariance X = E[x sᵀ] and the filter's S = E[s sᵀ] are carried:
+/// Below this many states the dense recursion costs nothing and the structure is not looked for.
+const MODAL_MIN_STATES: usize = 32;
+
+/// Whether `m` is zero outside 2×2 blocks on its diagonal (a modal truth: independent oscillators).
+fn two_by_two_block_diagonal(m: &Mat) -> bool {
+    m.nrows() % 2 == 0
+        && m.iter().enumerate().all(|(idx, v)| *v == 0.0 || (idx % m.nrows()) / 2 == (idx / m.nrows()) / 2)
+}
+
+/// The recursion of [`propagate`] when A, cov x0 and B W Bᵀ are block diagonal in 2×2 blocks and
+/// there are no modes and no means (a modal truth, seed 004's string): the state covariance stays
+/// block diagonal, so only its blocks P_b, the cross covariance X = E[x sᵀ] and the filter's
+/// S = E[s sᵀ] are carried:
 ///
 ///     P_b' = A_b P_b A_bᵀ + (B W Bᵀ)_b,   X' = A X Afᵀ + A P (Bf C)ᵀ + B W Dᵀ Bfᵀ,
 ///     S' = Af S Afᵀ + Af Xᵀ (Bf C)ᵀ + (Bf C) X Afᵀ + (Bf C) P (Bf C)ᵀ + Bf D W Dᵀ Bfᵀ,
@@ -253,13 +273,12 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
 /// E|e|² = Σ_b tr(H_x,b P_b H_x,bᵀ) + 2 tr(H_x X H_sᵀ) + tr(H_s S H_sᵀ) + tr(G W Gᵀ), with
 /// H_x = Cz − Df C, H_s = −Cf, G = Dz − Df D. The cost per step is linear in the number of modes
 /// instead of cubic.
-fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w: &Mat) -> ExactError {
+fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w: &Mat, bwb_full: &Mat) -> ExactError {
     let (nx, ns) = (plant.nx(), real.ns());
     let nb = nx / 2;
     let blk = |m: &Mat, b: usize| m.view((2 * b, 2 * b), (2, 2)).into_owned();
     let a: Vec<Mat> = (0..nb).map(|b| blk(&plant.a, b)).collect();
-    let bwb_full_rows: Vec<Mat> = (0..nb).map(|b| plant.b.rows(2 * b, 2).into_owned()).collect();
-    let bwb: Vec<Mat> = bwb_full_rows.iter().map(|r| r * w * r.transpose()).collect();
+    let bwb: Vec<Mat> = (0..nb).map(|b| blk(bwb_full, b)).collect();
     let mut p: Vec<Mat> = (0..nb).map(|b| blk(x0_cov, b)).collect();
     let mut x = Mat::zeros(nx, ns);
     let mut sm = Mat::zeros(ns, ns);

@@ -47,10 +47,6 @@ pub struct Plant {
     pub arrival: Option<f64>,
     /// The Markov modes, if the matrices switch (dropouts included).
     pub modes: Option<Modes>,
-    /// A structure hint: A is block diagonal in 2×2 blocks, B W Bᵀ and cov x0 too, the noise feeding
-    /// the state is independent of the measurement noise, and there is no mean (x0, r) — a modal
-    /// truth (seed 004's string). The exact analysis then never forms the dense state covariance.
-    pub modal_blocks: bool,
     c_none: Mat,
     d_none: Mat,
 }
@@ -88,7 +84,6 @@ impl Plant {
             c_steps: Vec::new(),
             arrival: None,
             modes: None,
-            modal_blocks: false,
             c_none,
             d_none,
         }

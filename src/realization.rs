@@ -19,7 +19,8 @@ pub struct Gains {
     pub bf: Mat,
     pub cf: Mat,
     pub df: Mat,
-    /// How the known input r[k] (plant-state sized) enters the filter state.
+    /// How the known input r[k] (plant-state sized) enters the filter state; may have no columns
+    /// when the plant has no known input (a filter built on another model than the truth's).
     pub gf: Mat,
 }
 
@@ -90,7 +91,8 @@ impl Realization {
                 && g.bf.shape() == (ns, plant.ny())
                 && g.cf.shape() == (plant.nz(), ns)
                 && g.df.shape() == (plant.nz(), plant.ny())
-                && g.gf.shape() == (ns, plant.nx());
+                && g.gf.nrows() == ns
+                && (g.gf.ncols() == plant.nx() || (g.gf.ncols() == 0 && plant.known_input.is_empty()));
             if !ok {
                 return Err(Error::design(name, format!("gain sizes at step {k} do not fit the plant")));
             }

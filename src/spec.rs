@@ -521,7 +521,6 @@ fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Exper
         raw.nominal.insert(n.to_string(), rows(m));
     }
     let mut exp = resolve(name, raw, text)?;
-    exp.plant.modal_blocks = true;
     exp.string = Some(model);
     Ok(exp)
 }

@@ -179,29 +179,35 @@ impl StringModel {
         }
         let a = block_diag(&blocks_a.iter().collect::<Vec<_>>());
         let q = block_diag(&blocks_q.iter().collect::<Vec<_>>());
-        let mut b = Mat::zeros(nx, nx + m);
-        b.view_mut((0, 0), (nx, nx)).fill_with_identity();
-        let mut d = Mat::zeros(m, nx + m);
-        d.view_mut((0, nx), (m, m)).fill_with_identity();
         let c = Mat::from_fn(m, nx, |j, i| if i % 2 == 0 { self.sensor_average(i / 2 + 1, j) } else { 0.0 });
         let cz =
             Mat::from_fn(p, nx, |o, i| if i % 2 == 0 { self.eigenfunction(i / 2 + 1, self.outputs[o]) } else { 0.0 });
         let horizon = ((duration / dt).round() as usize).max(1);
-        let mut plant = Plant::new(
-            horizon,
-            a,
-            b,
-            c,
-            d,
-            cz,
-            Mat::zeros(p, nx + m),
-            Vector::zeros(nx),
-            0,
-            Vec::new(),
-            vec![("process".into(), nx), ("measurement".into(), m)],
-        );
-        plant.modal_blocks = true;
-        let cov = Covariances { blocks: vec![Mat::zeros(nx, nx), q, &self.w_m / dt] };
-        (plant, cov)
+        sampled(horizon, a, c, cz, q, &self.w_m / dt)
     }
+}
+
+/// x[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q) and w_m ~ (0, R) independent and
+/// x0 = 0 (a string at rest): the sampled form of the truth and of every Galerkin model, with noise
+/// blocks `process` and `measurement`.
+pub fn sampled(horizon: usize, a: Mat, c: Mat, cz: Mat, q: Mat, r: Mat) -> (Plant, Covariances) {
+    let (nx, m, p) = (a.nrows(), c.nrows(), cz.nrows());
+    let mut b = Mat::zeros(nx, nx + m);
+    b.view_mut((0, 0), (nx, nx)).fill_with_identity();
+    let mut d = Mat::zeros(m, nx + m);
+    d.view_mut((0, nx), (m, m)).fill_with_identity();
+    let plant = Plant::new(
+        horizon,
+        a,
+        b,
+        c,
+        d,
+        cz,
+        Mat::zeros(p, nx + m),
+        Vector::zeros(nx),
+        0,
+        Vec::new(),
+        vec![("process".into(), nx), ("measurement".into(), m)],
+    );
+    (plant, Covariances { blocks: vec![Mat::zeros(nx, nx), q, r] })
 }

@@ -69,9 +69,10 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     }
     let (fplant, fcov) = projected(model, exp.plant.horizon, p.basis, p.n, p.alpha);
     let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
-    // The filter knows no input r: its Gf maps the truth's r (none here) to nothing.
+    // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
+    // truth's r (2M): none at all.
     for g in realization.steps.iter_mut() {
-        g.gf = Mat::zeros(2 * p.n, exp.plant.nx());
+        g.gf = Mat::zeros(2 * p.n, 0);
     }
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("basis".into(), format!("{:?}", p.basis).to_lowercase().into());
@@ -106,29 +107,12 @@ pub fn projected(model: &StringModel, horizon: usize, basis: Basis, n: usize, al
     let phi = e.view((2 * n, 2 * n), (2 * n, 2 * n)).transpose();
     let qd = symmetrize(&(&phi * e.view((0, 2 * n), (2 * n, 2 * n))));
     let m = model.n_sensors();
-    let mut b = Mat::zeros(2 * n, 2 * n + m);
-    b.view_mut((0, 0), (2 * n, 2 * n)).fill_with_identity();
-    let mut d = Mat::zeros(m, 2 * n + m);
-    d.view_mut((0, 2 * n), (m, m)).fill_with_identity();
     let mut c = Mat::zeros(m, 2 * n);
     c.view_mut((0, 0), (m, n)).copy_from(&sens);
     let mut cz = Mat::zeros(out.nrows(), 2 * n);
     cz.view_mut((0, 0), (out.nrows(), n)).copy_from(&out);
-    let plant = Plant::new(
-        horizon,
-        phi,
-        b,
-        c,
-        d,
-        cz,
-        Mat::zeros(out.nrows(), 2 * n + m),
-        Vector::zeros(2 * n),
-        0,
-        Vec::new(),
-        vec![("process".into(), 2 * n), ("measurement".into(), m)],
-    );
     let s_alpha = &model.w_m + alpha * Mat::identity(m, m);
-    (plant, Covariances { blocks: vec![Mat::zeros(2 * n, 2 * n), qd, s_alpha / dt] })
+    crate::string::sampled(horizon, phi, c, cz, qd, s_alpha / dt)
 }
 
 /// Mass, stiffness, forcing covariance V_φ, sensor matrix (m × n) and output matrix (p × n).

@@ -233,7 +233,7 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
 }
 
 /// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value; entries that
-/// are exactly zero are left out (a Galerkin filter's Gf alone would be 2n × 2M zeros per step).
+/// are exactly zero are left out (a missing entry is 0), so sparse gains cost no rows.
 fn gains<'a>(exp: &'a Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val): (Vec<&'a str>, _, _, _, _, _, _) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
