@@ -56,9 +56,12 @@ pub struct RunOutcome {
     pub total_seconds: f64,
 }
 
-/// Designs every filter of `exp` (in parallel; each timed on its own).
+/// Designs every filter of `exp` (in parallel; each timed on its own). When several designs fail, the
+/// error reported is the first in file order, not whichever thread failed first, so the message is
+/// the same on every run and every thread count.
 pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
-    exp.filters
+    let designed: Vec<Result<DesignedFilter>> = exp
+        .filters
         .par_iter()
         .map(|f| {
             let t = Instant::now();
@@ -73,7 +76,8 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
             Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error })
         })
-        .collect()
+        .collect();
+    designed.into_iter().collect()
 }
 
 /// A filter's exact |||F|||²_a at the experiment's level a and its limits ‖F‖₂²/lw (a = 0) and
