@@ -16,4 +16,5 @@ mod hinf;
 mod kalman;
 mod markov_jump;
 mod minimax;
+mod recording;
 mod sdp;

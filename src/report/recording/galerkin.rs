@@ -1,0 +1,125 @@
+//! Seed 004's views: the exact error over (basis, n, α) and the string's profile along ξ.
+
+use super::{RecResult, Run, style};
+
+/// A Galerkin filter's place in the sweep.
+pub struct Point {
+    pub filter: usize,
+    pub basis: String,
+    pub n: usize,
+    pub alpha: f64,
+}
+
+/// The Galerkin filters of a run (those whose design reports basis, n and α).
+pub fn points(run: &Run) -> Vec<Point> {
+    (0..run.exp.filters.len())
+        .filter_map(|f| {
+            let d = &run.out.filters[f].design.diagnostics;
+            Some(Point {
+                filter: f,
+                basis: d.get("basis")?.as_str()?.to_string(),
+                n: d.get("n")?.as_u64()? as usize,
+                alpha: d.get("alpha")?.as_f64()?,
+            })
+        })
+        .collect()
+}
+
+fn sorted<T: PartialOrd + Copy>(mut v: Vec<T>) -> Vec<T> {
+    v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    v.dedup();
+    v
+}
+
+/// The bases of a run's sweep, in order.
+pub fn bases(pts: &[Point]) -> Vec<String> {
+    let mut b: Vec<String> = pts.iter().map(|p| p.basis.clone()).collect();
+    b.sort();
+    b.dedup();
+    b
+}
+
+pub fn write(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
+    let Some(model) = run.exp.string.as_ref() else { return Ok(()) };
+    let pts = points(run);
+    let ns = sorted(pts.iter().map(|p| p.n).collect());
+    let alphas = sorted(pts.iter().map(|p| p.alpha).collect::<Vec<f64>>());
+    let steps = run.exp.plant.steps() as f64;
+    for sc in &run.out.scenarios {
+        let err = |p: &Point| sc.exact[p.filter].total / steps;
+        // Grouped bars: one group per α (largest first, as the regularization weakens), one bar per
+        // n inside it, one colour per α.
+        for basis in bases(&pts) {
+            for (g, alpha) in alphas.iter().rev().enumerate() {
+                let group: Vec<&Point> = pts.iter().filter(|p| p.basis == basis && p.alpha == *alpha).collect();
+                if group.is_empty() {
+                    continue;
+                }
+                let x =
+                    group.iter().map(|p| (g * (ns.len() + 1) + ns.iter().position(|n| *n == p.n).unwrap_or(0)) as f64);
+                let bar = rerun::BarChart::new(group.iter().map(|p| err(p)).collect::<Vec<f64>>())
+                    .with_abscissa(x.collect::<Vec<f64>>())
+                    .with_color(style::filter_colour(g));
+                rec.log_static(run.at(&["galerkin", &sc.name, "surface", &basis, &format!("alpha={alpha:e}")]), &bar)?;
+            }
+        }
+        rec.log_static(
+            run.at(&["galerkin", &sc.name, "surface_table"]),
+            &rerun::TextDocument::from_markdown(surface_table(&pts, &ns, &alphas, &err)),
+        )?;
+        // The string along ξ at every step of the first sample trial: the truth and the finest
+        // filter (largest n, then smallest α) against the coarsest at the same α and basis.
+        let finest = pts.iter().max_by(|a, b| a.n.cmp(&b.n).then(b.alpha.total_cmp(&a.alpha)));
+        let coarsest = finest.and_then(|fin| {
+            pts.iter().filter(|x| x.basis == fin.basis && x.alpha == fin.alpha && x.n < fin.n).min_by_key(|x| x.n)
+        });
+        let Some(tr) = sc.trajectories.first() else { continue };
+        let xs = &model.outputs;
+        let strip = |v: &dyn Fn(usize) -> f64| -> Vec<[f32; 2]> {
+            std::iter::once([0.0, 0.0])
+                .chain(xs.iter().enumerate().map(|(p, x)| [*x as f32, v(p) as f32]))
+                .chain(std::iter::once([model.length as f32, 0.0]))
+                .collect()
+        };
+        for k in 0..tr.z.ncols() {
+            rec.set_time_sequence("step", k as i64);
+            let truth = rerun::LineStrips2D::new([strip(&|p| tr.z[(p, k)])])
+                .with_colors([style::TRUTH])
+                .with_radii([rerun::Radius::new_ui_points(1.5)]);
+            rec.log(run.at(&["galerkin", &sc.name, "string", "truth"]), &truth)?;
+            for p in finest.into_iter().chain(coarsest) {
+                let est = rerun::LineStrips2D::new([strip(&|q| tr.zhat[p.filter][(q, k)])])
+                    .with_colors([style::filter_colour(p.filter)])
+                    .with_radii([rerun::Radius::new_ui_points(1.0)]);
+                rec.log(run.at(&["galerkin", &sc.name, "string", &run.exp.filters[p.filter].name]), &est)?;
+            }
+        }
+        rec.reset_time();
+    }
+    Ok(())
+}
+
+/// Rows (basis, n), columns α: the time-averaged exact error, the README's error surface.
+fn surface_table(pts: &[Point], ns: &[usize], alphas: &[f64], err: &dyn Fn(&Point) -> f64) -> String {
+    let mut s =
+        String::from("### exact error, time-averaged (Σ_k E|u − û|² over the points, / steps)\n\n| basis | n |");
+    for a in alphas.iter().rev() {
+        s.push_str(&format!(" α = {a:e} |"));
+    }
+    s.push_str("\n|---|---:|");
+    s.push_str(&"---:|".repeat(alphas.len()));
+    s.push('\n');
+    for basis in bases(pts) {
+        for n in ns {
+            s.push_str(&format!("| {basis} | {n} |"));
+            for a in alphas.iter().rev() {
+                match pts.iter().find(|p| p.basis == basis && p.n == *n && p.alpha == *a) {
+                    Some(p) => s.push_str(&format!(" {:.6} |", err(p))),
+                    None => s.push_str(" |"),
+                }
+            }
+            s.push('\n');
+        }
+    }
+    s
+}

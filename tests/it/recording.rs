@@ -1,0 +1,162 @@
+//! The recording of every shipped experiment (small trial counts), read back with rerun's own
+//! decoder: no chunk without rows (the viewer's time panel panics on one), a default blueprint
+//! that is activated, and one colour per filter in every view, different filters different.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::io::BufReader;
+
+use filterbench::report::recording::{self, style};
+use filterbench::spec;
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+use rerun::{ComponentIdentifier, StoreKind};
+
+const KINDS: [&str; 9] =
+    ["mse", "promise", "trajectories", "compare", "tables", "summary", "design", "galerkin", "string"];
+
+/// Who an entity's colours belong to, from the documented path layout.
+enum Owner {
+    /// One filter, named by the path.
+    Filter(String),
+    /// One series per filter, in the file's order.
+    EveryFilter,
+    Other,
+}
+
+fn owner(parts: &[&str]) -> Owner {
+    match parts {
+        ["mse" | "promise", _, f, _] | ["compare", _, f] | ["design", f, _] => Owner::Filter(f.to_string()),
+        ["galerkin", _, "string", l] if *l != "truth" => Owner::Filter(l.to_string()),
+        ["trajectories", _, _, _, "estimates" | "errors"] => Owner::EveryFilter,
+        _ => Owner::Other,
+    }
+}
+
+struct Read {
+    data_entities: usize,
+    blueprint_chunks: usize,
+    viewport: bool,
+    activated: bool,
+    colours: BTreeMap<String, BTreeSet<[u8; 3]>>,
+    truth: BTreeSet<[u8; 3]>,
+}
+
+fn colour_components() -> Vec<ComponentIdentifier> {
+    vec![
+        rerun::SeriesLines::descriptor_colors().component,
+        rerun::SeriesPoints::descriptor_colors().component,
+        rerun::BarChart::descriptor_color().component,
+        rerun::LineStrips2D::descriptor_colors().component,
+    ]
+}
+
+fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read {
+    let file = BufReader::new(std::fs::File::open(path).unwrap());
+    let mut r = Read {
+        data_entities: 0,
+        blueprint_chunks: 0,
+        viewport: false,
+        activated: false,
+        colours: BTreeMap::new(),
+        truth: BTreeSet::new(),
+    };
+    let mut entities = BTreeSet::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        match msg.expect("the recording decodes") {
+            LogMsg::SetStoreInfo(_) => {}
+            LogMsg::BlueprintActivationCommand(c) => r.activated |= c.make_active && c.make_default,
+            LogMsg::ArrowMsg(store, m) => {
+                let chunk = Chunk::from_arrow_msg(&m).expect("a chunk");
+                let entity = chunk.entity_path().to_string();
+                assert!(chunk.num_rows() > 0, "{}: chunk with zero rows at {entity}", path.display());
+                if store.kind() == StoreKind::Blueprint {
+                    r.blueprint_chunks += 1;
+                    r.viewport |= entity == "/viewport";
+                    continue;
+                }
+                entities.insert(entity);
+                let parts: Vec<String> = chunk.entity_path().iter().map(|p| p.unescaped_str().to_string()).collect();
+                let mut parts: Vec<&str> = parts.iter().map(String::as_str).collect();
+                if parts.first().is_some_and(|p| variants.iter().any(|v| v == p) && !KINDS.contains(p)) {
+                    parts.remove(0);
+                }
+                for id in colour_components() {
+                    for row in chunk.iter_component::<rerun::components::Color>(id) {
+                        for (i, c) in row.iter().enumerate() {
+                            let [red, g, b, _] = c.to_array();
+                            let who = match owner(&parts) {
+                                Owner::Filter(f) => f,
+                                Owner::EveryFilter => filters[i].clone(),
+                                Owner::Other => {
+                                    if parts.last() == Some(&"truth") {
+                                        r.truth.insert([red, g, b]);
+                                    }
+                                    continue;
+                                }
+                            };
+                            r.colours.entry(who).or_default().insert([red, g, b]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    r.data_entities = entities.len();
+    r
+}
+
+#[test]
+fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_filter() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok()?.path().file_stem()?.to_str().map(str::to_string))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 11, "the shipped experiments: {names:?}");
+    let tmp = crate::common::TempDir::new();
+    for name in &names {
+        let mut exps = spec::load_variants(&dir.join(format!("{name}.toml"))).expect("parses");
+        for e in &mut exps {
+            e.trials = 40;
+            e.sample_trajectories = e.sample_trajectories.min(2);
+        }
+        let outs: Vec<_> = exps.iter().map(|e| filterbench::run::run(e, false).expect("runs")).collect();
+        let runs: Vec<_> = exps.iter().zip(&outs).collect();
+        let path = tmp.path().join(format!("{name}.rrd"));
+        recording::write(&runs, &path).expect("writes");
+        let variants: Vec<String> = exps.iter().filter_map(|e| e.variant.clone()).collect();
+        let names_in_order: Vec<String> = exps[0].filters.iter().map(|f| f.name.clone()).collect();
+        let r = read(&path, &variants, &names_in_order);
+        assert!(r.data_entities > 0, "{name}: data");
+        assert!(r.viewport && r.activated && r.blueprint_chunks > 3, "{name}: a default blueprint, activated");
+        let filters: BTreeSet<&str> = exps[0].filters.iter().map(|f| f.name.as_str()).collect();
+        let mut seen: BTreeMap<[u8; 3], String> = BTreeMap::new();
+        for (f, cs) in &r.colours {
+            assert!(filters.contains(f.as_str()), "{name}: {f} is a filter");
+            assert_eq!(cs.len(), 1, "{name}: filter {f} has one colour in every view, not {cs:?}");
+            let c = *cs.iter().next().unwrap();
+            if let Some(other) = seen.insert(c, f.clone()) {
+                panic!("{name}: filters {other} and {f} share the colour {c:?}");
+            }
+            let [red, g, b, _] = style::DROPOUT;
+            assert_ne!(c, [red, g, b], "{name}: {f} has the dropout markers' colour");
+            assert!(!r.truth.contains(&c), "{name}: {f} has the truth's colour");
+        }
+        assert_eq!(r.colours.len(), filters.len(), "{name}: every filter is drawn");
+    }
+}
+
+#[test]
+fn names_that_differ_stay_different_entities() {
+    let a = recording::path(&["mse", "k.1"]);
+    let b = recording::path(&["mse", "k_1"]);
+    let c = recording::path(&["mse", "k/1"]);
+    assert_ne!(a, b);
+    assert_ne!(b, c);
+    assert_eq!(
+        rerun::EntityPath::parse_strict(&c).expect("a valid path").len(),
+        2,
+        "a '/' in a name stays inside one part: {c}"
+    );
+}
