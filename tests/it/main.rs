@@ -16,4 +16,6 @@ mod hinf;
 mod kalman;
 mod markov_jump;
 mod minimax;
+mod output_safety;
 mod sdp;
+mod strict_files;
