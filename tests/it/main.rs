@@ -17,5 +17,6 @@ mod kalman;
 mod markov_jump;
 mod minimax;
 mod output_safety;
+mod promises;
 mod sdp;
 mod strict_files;
