@@ -288,7 +288,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
         ProgressBar::with_draw_target(Some(trials), ProgressDrawTarget::hidden())
     };
     bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {human_pos}/{human_len} trials ({rate} trials/s, eta {eta})")
+        ProgressStyle::with_template("{msg} [{wide_bar}] {human_pos}/{human_len} trials, {rate}/s, eta {eta}")
             .expect("valid template")
             .with_key("rate", |st: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
                 let _ = w.write_str(&three_figures(st.per_sec()));

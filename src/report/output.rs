@@ -113,7 +113,7 @@ fn foreign_content(dir: &Path) -> Result<Option<String>> {
         others.sort();
         let shown: Vec<String> = others.iter().take(3).map(|n| format!("`{}`", n.escape_debug())).collect();
         let more = if others.len() > 3 { format!(" and {} more", others.len() - 3) } else { String::new() };
-        return Ok(Some(format!("holds {}{more}, which filterbench did not write", shown.join(", "))));
+        return Ok(Some(format!("it holds {}{more}, which filterbench did not write", shown.join(", "))));
     }
     if manifest && !is_result_manifest(&dir.join(MANIFEST)) {
         return Ok(Some(format!("its {MANIFEST} was not written by filterbench")));
@@ -186,7 +186,7 @@ pub fn check_target(target: &Path) -> Result<(PathBuf, String)> {
         if let Some(why) = foreign_content(target)? {
             return Err(Error::invalid(
                 shown,
-                format!("is not an earlier filterbench result: it {why}; choose another folder (nothing was changed)"),
+                format!("is not an earlier filterbench result: {why}; choose another folder (nothing was changed)"),
             ));
         }
     }
@@ -282,7 +282,7 @@ impl OutputPlace {
         let changed = match fs::symlink_metadata(&self.target) {
             Err(_) => None,
             Ok(m) if m.is_dir() => foreign_content(&self.target).unwrap_or(None),
-            Ok(_) => Some("is no longer a folder".to_string()),
+            Ok(_) => Some("it is no longer a folder".to_string()),
         };
         if let Some(why) = changed {
             // Someone put files there during the run: keep both, replace nothing.
@@ -290,7 +290,7 @@ impl OutputPlace {
             guard.tmp = None;
             return Err(Error::invalid(
                 format!("--out {}", self.target.display()),
-                format!("changed during the run and now {why}; the new results are in {}", self.tmp.display()),
+                format!("changed during the run ({why}); the new results are in {}", self.tmp.display()),
             ));
         }
         let old = self.parent.join(format!(".{}.old-{}", self.name, std::process::id()));
