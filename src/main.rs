@@ -73,11 +73,21 @@ fn load(name: &str, opts: &RunOpts) -> Result<Vec<spec::Experiment>> {
     Ok(exps)
 }
 
+/// The most worker threads `--threads` may ask for.
+const MAX_THREADS: usize = 1024;
+
 fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(t) = threads {
         if t == 0 {
             return Err(filterbench::Error::invalid("--threads", "must be at least 1"));
+        }
+        // Results do not depend on the thread count; beyond this, spawning the pool alone takes minutes.
+        if t > MAX_THREADS {
+            return Err(filterbench::Error::invalid(
+                "--threads",
+                format!("{t} is more than the limit of {MAX_THREADS}"),
+            ));
         }
         b = b.num_threads(t);
     }
@@ -110,12 +120,12 @@ fn main_inner(cli: Cli) -> Result<()> {
                 out: out.map(|p| p.display().to_string()),
             };
             report::write_all(&runs, staging.path(), &overrides)?;
-            let dir = staging.commit()?;
+            staging.commit()?;
             if !quiet {
                 for (exp, outcome) in &runs {
                     print!("{}", report::console::table(exp, outcome));
                 }
-                println!("\nresults: {}", dir.display());
+                println!("\nresults: {}", target.display());
             }
         }
         Command::Bench { name, opts } => {

@@ -220,7 +220,8 @@ impl OutputPlace {
         let lock = lock(&lock_path, target, what)?;
         active().lock = Some(lock_path.clone());
         let mut place = OutputPlace {
-            target: target.to_path_buf(),
+            // The checked form of the path (a trailing `/.` or a symlinked parent resolved).
+            target: parent.join(&name),
             parent,
             name,
             tmp: PathBuf::new(),

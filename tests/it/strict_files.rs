@@ -227,6 +227,7 @@ fn a_coloured_input_below_white_noise_is_refused_before_any_design() {
 fn trial_counts_are_bounded_and_memory_is_estimated_before_the_run() {
     refuses_file(&baseline(), &["--trials", "18446744073709551615"], &["--trials", "limit of 1000000000000"]);
     refuses_file(&baseline(), &["--trials", "1"], &["--trials", "at least 2"]);
+    refuses_file(&baseline(), &["--trials", "2", "--threads", "18446744073709551615"], &["--threads", "limit of 1024"]);
     refuses_file(&patch(&baseline(), "trials = 20000", "trials = 10000000000000"), &[], &["trials", "limit"]);
     // A horizon whose per-step statistics alone need terabytes is refused at once with the figure.
     let start = Instant::now();
