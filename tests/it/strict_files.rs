@@ -247,3 +247,39 @@ fn sample_trajectories_follows_one_rule_from_the_file_and_from_trials() {
     assert_eq!(e.sample_trajectories, 20);
     assert_eq!(spec::sample_count(3, 2), 2, "--trials 2 caps the same way");
 }
+
+/// The names serde lists after "expected" in an error message (`a`, `b` or one of `a`, `b`).
+fn listed(message: &str) -> Vec<String> {
+    let Some((_, tail)) = message.split_once("expected") else { return Vec::new() };
+    // toml appends where it happened on a line of its own: not part of the list.
+    let tail = tail.lines().next().unwrap_or("");
+    let mut names: Vec<String> = tail.split('`').skip(1).step_by(2).map(str::to_string).collect();
+    names.sort();
+    names
+}
+
+/// A [`Kinds`] list agrees with the enum it describes: the same kinds, and for each kind the keys
+/// its variant takes (read from serde's own messages, so a variant added without its entry fails).
+fn kinds_match_the_enum<T: filterbench::kind::Kinds>() {
+    let probe =
+        |table: &str| T::deserialize(toml::from_str::<toml::Value>(table).unwrap()).err().map(|e| e.to_string());
+    let mut kinds: Vec<String> = T::KINDS.iter().map(|(k, _)| k.to_string()).collect();
+    kinds.sort();
+    let m = probe("kind = \"no_such_kind\"").unwrap();
+    assert_eq!(listed(&m), kinds, "{}: the kinds ({m})", T::WHAT);
+    for (kind, keys) in T::KINDS {
+        let mut keys: Vec<String> = keys.iter().map(|k| k.to_string()).collect();
+        keys.sort();
+        // A unit variant ignores the extra key (why kind tables are checked by hand); a struct
+        // variant refuses it and lists its fields.
+        let got = probe(&format!("kind = \"{kind}\"\nno_such_key = 1")).map_or(Vec::new(), |m| listed(&m));
+        assert_eq!(got, keys, "{}: the keys of kind `{kind}`", T::WHAT);
+    }
+}
+
+#[test]
+fn every_kinds_list_matches_its_enum() {
+    kinds_match_the_enum::<filterbench::noise::Shape>();
+    kinds_match_the_enum::<filterbench::spec::Input<String>>();
+    kinds_match_the_enum::<filterbench::disturbance::DisturbanceChoice<String>>();
+}
