@@ -4,11 +4,13 @@
 
 pub mod anisotropy;
 pub mod bench;
+pub mod budget;
 pub mod disturbance;
 pub mod error;
 pub mod exact;
 pub mod families;
 pub mod hinf;
+pub mod kind;
 pub mod linalg;
 pub mod linop;
 pub mod montecarlo;

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use filterbench::report::{self, Staging, manifest::Overrides};
+use filterbench::report::{self, manifest::Overrides, output};
 use filterbench::{Result, bench, experiment_path, list_experiments, run, spec};
 
 #[derive(Parser)]
@@ -62,11 +62,9 @@ fn load(name: &str, opts: &RunOpts) -> Result<Vec<spec::Experiment>> {
     let mut exps = spec::load_variants(&experiment_path(name)?)?;
     for exp in &mut exps {
         if let Some(t) = opts.trials {
-            if t < 2 {
-                return Err(filterbench::Error::invalid("--trials", "at least 2 trials are needed"));
-            }
+            spec::check_trials("--trials", t)?;
             exp.trials = t;
-            exp.sample_trajectories = exp.sample_trajectories.min(t);
+            exp.sample_trajectories = spec::sample_count(exp.sample_trajectories, t);
         }
         if let Some(s) = opts.seed {
             exp.seed = s;
@@ -75,11 +73,21 @@ fn load(name: &str, opts: &RunOpts) -> Result<Vec<spec::Experiment>> {
     Ok(exps)
 }
 
+/// The most worker threads `--threads` may ask for.
+const MAX_THREADS: usize = 1024;
+
 fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(t) = threads {
         if t == 0 {
             return Err(filterbench::Error::invalid("--threads", "must be at least 1"));
+        }
+        // Results do not depend on the thread count; beyond this, spawning the pool alone takes minutes.
+        if t > MAX_THREADS {
+            return Err(filterbench::Error::invalid(
+                "--threads",
+                format!("{t} is more than the limit of {MAX_THREADS}"),
+            ));
         }
         b = b.num_threads(t);
     }
@@ -98,8 +106,11 @@ fn main_inner(cli: Cli) -> Result<()> {
         Command::Experiment { name, opts, out, quiet } => {
             let exps = load(&name, &opts)?;
             let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exps[0].name));
-            let staging = Staging::new(&target)?;
             let pool = pool(opts.threads)?;
+            filterbench::budget::check(&exps)?;
+            output::install_signal_cleanup()?;
+            let holder: Vec<String> = std::env::args().map(|a| a.escape_debug().to_string()).collect();
+            let staging = output::OutputPlace::claim(&target, &holder.join(" "))?;
             let outcomes = exps.iter().map(|e| pool.install(|| run::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
             let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
             let overrides = Overrides {
@@ -109,17 +120,19 @@ fn main_inner(cli: Cli) -> Result<()> {
                 out: out.map(|p| p.display().to_string()),
             };
             report::write_all(&runs, staging.path(), &overrides)?;
-            let dir = staging.commit()?;
+            staging.commit()?;
             if !quiet {
                 for (exp, outcome) in &runs {
                     print!("{}", report::console::table(exp, outcome));
                 }
-                println!("\nresults: {}", dir.display());
+                println!("\nresults: {}", target.display());
             }
         }
         Command::Bench { name, opts } => {
             let p = pool(opts.threads)?;
-            for exp in load(&name, &opts)? {
+            let exps = load(&name, &opts)?;
+            filterbench::budget::check(&exps)?;
+            for exp in exps {
                 print!("{}", p.install(|| bench::run(&exp))?);
             }
         }

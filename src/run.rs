@@ -26,6 +26,42 @@ pub struct DesignedFilter {
     pub anisotropic: Option<AnisotropicFigures>,
     /// The summed error with zero noise (x0's mean and the known input alone).
     pub deterministic_error: f64,
+    /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
+    pub claimed: Option<Claimed>,
+}
+
+/// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
+/// with P its design Riccati solution (Kalman, intermittent, Markov-jump: at `design`; minimax: at
+/// K̂). It is not a promise: under another covariance the filter does not know it is wrong, and
+/// `exact / claimed` (the consistency) says by how much.
+#[derive(Clone, Debug)]
+pub struct Claimed {
+    pub total: f64,
+    pub per_step: Vec<f64>,
+}
+
+impl Claimed {
+    fn of(plant: &crate::plant::Plant, design: &Design) -> Option<Claimed> {
+        let g = design.guarantee.as_ref().filter(|g| g.kind == "exact_at_design" || g.kind == "minimax")?;
+        let total = g.per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+        Some(Claimed { total, per_step: g.per_step.clone() })
+    }
+}
+
+/// Whether a filter's `guarantee` is a promise in a scenario: the minimax bound holds for every
+/// covariance of its sets (any shape, any disturbance within its energy bound), so where the
+/// scenario's covariance lies in every set and its inputs are independent; `exact_at_design` is
+/// the filter's belief ([`Claimed`]), never a promise.
+pub fn guarantee_holds(exp: &Experiment, design: &Design, cov: &Covariances, joint: bool) -> bool {
+    let Some(g) = &design.guarantee else { return false };
+    g.kind == "minimax"
+        && !joint
+        && exp
+            .sets
+            .iter()
+            .zip(&cov.blocks)
+            .zip(&exp.disturbances)
+            .all(|((set, m), dist)| dist.is_some() || set.as_ref().map_or(true, |s| s.contains(m)))
 }
 
 /// One scenario's results.
@@ -46,6 +82,9 @@ pub struct ScenarioOutcome {
     pub mc: McStats,
     pub mc_seconds: f64,
     pub trajectories: Vec<Trajectory>,
+    /// Per filter: its guaranteed summed error where the promise holds in this scenario
+    /// ([`guarantee_holds`]), else None.
+    pub guaranteed: Vec<Option<f64>>,
 }
 
 pub struct RunOutcome {
@@ -74,7 +113,8 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
                 None => None,
             };
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
-            Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error })
+            let claimed = Claimed::of(&exp.plant, &design);
+            Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error, claimed })
         })
         .collect();
     designed.into_iter().collect()
@@ -209,6 +249,27 @@ pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Res
         .collect()
 }
 
+/// A rate with three significant figures and a k/M/G suffix (91.3k, not 91,332.6321).
+pub fn three_figures(x: f64) -> String {
+    if !x.is_finite() {
+        return "—".into();
+    }
+    let (v, suffix) = match x {
+        _ if x >= 1e9 => (x / 1e9, "G"),
+        _ if x >= 1e6 => (x / 1e6, "M"),
+        _ if x >= 1e3 => (x / 1e3, "k"),
+        _ => (x, ""),
+    };
+    let prec = if v >= 100.0 {
+        0
+    } else if v >= 10.0 {
+        1
+    } else {
+        2
+    };
+    format!("{v:.prec$}{suffix}")
+}
+
 /// Runs the whole experiment on the current rayon pool.
 pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let start = Instant::now();
@@ -219,21 +280,34 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let ratios = ratio_check(exp, &filters);
     let ops = montecarlo::PlantOps::new(&exp.plant);
 
-    let total = exp.trials as u64 * exp.scenarios.len() as u64;
+    // One bar per scenario, counting the trials the user asked for (not trials × scenarios).
+    let trials = exp.trials as u64;
     let bar = if show_progress {
-        ProgressBar::new(total)
+        ProgressBar::new(trials)
     } else {
-        ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::hidden())
+        ProgressBar::with_draw_target(Some(trials), ProgressDrawTarget::hidden())
     };
     bar.set_style(
-        ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} trials ({per_sec}, eta {eta})")
+        ProgressStyle::with_template("{msg} [{wide_bar}] {human_pos}/{human_len} trials, {rate}/s, eta {eta}")
             .expect("valid template")
+            .with_key("rate", |st: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = w.write_str(&three_figures(st.per_sec()));
+            })
             .progress_chars("=> "),
     );
 
     let mut scenarios = Vec::with_capacity(exp.scenarios.len());
     for (i, (s, cov)) in exp.scenarios.iter().zip(covs).enumerate() {
-        bar.set_message(s.name.clone());
+        bar.reset();
+        bar.set_message(format!("scenario {}/{} {}", i + 1, exp.scenarios.len(), s.name));
+        let joint_given = s.input != InputChoice::Independent;
+        let guaranteed = filters
+            .iter()
+            .map(|f| match guarantee_holds(exp, &f.design, &cov, joint_given) {
+                true => f.design.guarantee.as_ref().map(|g| g.total),
+                false => None,
+            })
+            .collect();
         let cov = exp.sampling(&cov);
         let (disturbance_label, w_mean) = match &s.disturbance {
             DisturbanceChoice::None => ("none".to_string(), None),
@@ -288,6 +362,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             mc,
             mc_seconds,
             trajectories,
+            guaranteed,
         });
     }
     bar.finish_and_clear();

@@ -8,6 +8,7 @@ use serde::Deserialize;
 
 use crate::disturbance::{Disturbance, DisturbanceChoice};
 use crate::error::{Error, Result};
+use crate::kind::{self, Kinds, Strict};
 use crate::linalg::{Mat, Vector, check_psd, from_rows};
 use crate::noise::{CovChoice, Shape};
 use crate::plant::{Covariances, Plant};
@@ -42,7 +43,7 @@ struct ExperimentFile {
     #[serde(default)]
     nominal: BTreeMap<String, Rows>,
     #[serde(default)]
-    sets: BTreeMap<String, SetFile>,
+    sets: BTreeMap<String, Strict<SetFile>>,
     #[serde(default)]
     disturbances: BTreeMap<String, DisturbanceFile>,
     scenarios: Vec<ScenarioFile>,
@@ -79,7 +80,7 @@ struct PlantFile {
     #[serde(default)]
     sum_from: usize,
     C_steps: Option<Vec<Rows>>,
-    known_input: Option<KnownInputFile>,
+    known_input: Option<Strict<KnownInputFile>>,
     /// Probability p that a measurement arrives (seed 003: y = λ C x + D w, λ ~ Bernoulli(p)).
     arrival: Option<f64>,
 }
@@ -157,12 +158,58 @@ struct ScenarioFile {
     name: String,
     #[serde(default)]
     covariance: CovChoiceFile,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "kind::strict")]
     shape: Shape,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "kind::strict")]
     disturbance: DisturbanceChoice<String>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "kind::strict")]
     input: Input<String>,
+}
+
+impl Kinds for KnownInputFile {
+    const WHAT: &'static str = "known input";
+    const KINDS: &'static [(&'static str, &'static [&'static str])] =
+        &[("values", &["values"]), ("sine", &["amplitude", "frequency", "phase"])];
+}
+
+impl Kinds for SetFile {
+    const WHAT: &'static str = "set";
+    const KINDS: &'static [(&'static str, &'static [&'static str])] = &[
+        ("box", &["half_width", "center", "psd"]),
+        ("ball", &["radius", "center", "psd"]),
+        ("loewner", &["lower", "upper", "psd"]),
+    ];
+}
+
+impl Kinds for Shape {
+    const WHAT: &'static str = "shape";
+    const KINDS: &'static [(&'static str, &'static [&'static str])] = &[
+        ("gaussian", &[]),
+        ("uniform", &[]),
+        ("laplace", &[]),
+        ("student_t", &["nu"]),
+        ("rademacher", &[]),
+        ("mixture", &["weight", "ratio"]),
+    ];
+}
+
+impl Kinds for DisturbanceChoice<String> {
+    const WHAT: &'static str = "disturbance";
+    const KINDS: &'static [(&'static str, &'static [&'static str])] =
+        &[("none", &[]), ("random", &["seed"]), ("worst_for", &["filter"])];
+}
+
+impl Kinds for Input<String> {
+    const WHAT: &'static str = "input";
+    const KINDS: &'static [(&'static str, &'static [&'static str])] = &[
+        ("independent", &[]),
+        ("ellipsoid_surface", &[]),
+        ("ellipsoid_interior", &[]),
+        ("random_covariance", &["seed"]),
+        ("ellipsoid_worst_for", &["filter"]),
+        ("coloured", &["anisotropy"]),
+        ("anisotropic_worst_for", &["filter", "anisotropy"]),
+    ];
 }
 
 /// How a scenario's inputs are drawn: block by block and white in time (the default), or jointly
@@ -217,9 +264,9 @@ struct DisturbanceFile {
     energy: f64,
 }
 
-/// A covariance choice as written in a file (`{ kind = …, … }`); see [`CovChoice`].
+/// A covariance choice as written in a file (`{ kind = …, … }` or a bare kind name); see [`CovChoice`].
 #[derive(Deserialize, Default)]
-#[serde(try_from = "CovChoiceRaw")]
+#[serde(try_from = "toml::Value")]
 pub(crate) enum CovChoiceFile {
     #[default]
     Nominal,
@@ -241,50 +288,46 @@ pub(crate) enum CovChoiceFile {
     ElementwiseMax,
 }
 
-/// `given` names its blocks as keys beside `kind`, so the table is read flat and checked here: any
-/// key the kind does not take is an error, as everywhere else.
-#[derive(Deserialize)]
-struct CovChoiceRaw {
-    kind: String,
-    seed: Option<u64>,
-    filter: Option<String>,
-    #[serde(flatten)]
-    blocks: BTreeMap<String, Rows>,
-}
+/// The kinds of covariance choice and their keys; `given` names its blocks as keys beside `kind`.
+const COV_KINDS: &[(&str, &[&str])] = &[
+    ("nominal", &[]),
+    ("given", &[]),
+    ("vertex", &["seed"]),
+    ("interior", &["seed"]),
+    ("elementwise_max", &[]),
+    ("worst_for", &["filter"]),
+    ("design_of", &["filter"]),
+];
 
-impl TryFrom<CovChoiceRaw> for CovChoiceFile {
+impl TryFrom<toml::Value> for CovChoiceFile {
     type Error = String;
-    fn try_from(r: CovChoiceRaw) -> std::result::Result<Self, String> {
-        let allowed: &[&str] = match r.kind.as_str() {
-            "nominal" | "given" | "elementwise_max" => &[],
-            "vertex" | "interior" => &["seed"],
-            "worst_for" | "design_of" => &["filter"],
-            k => {
-                return Err(format!(
-                    "unknown covariance kind `{k}` (known: nominal, given, vertex, interior, elementwise_max, worst_for, design_of)"
-                ));
-            }
-        };
-        let extra = [("seed", r.seed.is_some()), ("filter", r.filter.is_some())]
-            .into_iter()
-            .find(|(k, present)| *present && !allowed.contains(k));
-        if let Some((k, _)) = extra {
-            return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
+    fn try_from(v: toml::Value) -> std::result::Result<Self, String> {
+        let mut t = kind::check_table("covariance", COV_KINDS, &["given"], v)?;
+        let kind = t.remove("kind").and_then(|k| k.as_str().map(str::to_string)).unwrap_or_default();
+        fn field<T: serde::de::DeserializeOwned>(
+            t: &mut toml::Table,
+            kind: &str,
+            key: &str,
+        ) -> std::result::Result<T, String> {
+            let v = t.remove(key).ok_or_else(|| format!("missing field `{key}` for covariance kind `{kind}`"))?;
+            T::deserialize(v).map_err(|e| format!("`{key}`: {}", e.message().trim()))
         }
-        if let Some(k) = r.blocks.keys().next().filter(|_| r.kind != "given") {
-            return Err(format!("unknown field `{k}` for kind `{}`", r.kind));
-        }
-        let need = |v: Option<u64>| v.ok_or_else(|| format!("missing field `seed` for kind `{}`", r.kind));
-        Ok(match r.kind.as_str() {
+        Ok(match kind.as_str() {
             "nominal" => CovChoiceFile::Nominal,
-            "given" => CovChoiceFile::Given { blocks: r.blocks },
-            "vertex" => CovChoiceFile::Vertex { seed: need(r.seed)? },
+            "given" => CovChoiceFile::Given {
+                blocks: std::mem::take(&mut t)
+                    .into_iter()
+                    .map(|(k, v)| {
+                        let rows = Rows::deserialize(v).map_err(|e| format!("`{k}`: {}", e.message().trim()))?;
+                        Ok((k, rows))
+                    })
+                    .collect::<std::result::Result<_, String>>()?,
+            },
+            "vertex" => CovChoiceFile::Vertex { seed: field(&mut t, &kind, "seed")? },
+            "interior" => CovChoiceFile::Interior { seed: field(&mut t, &kind, "seed")? },
             "elementwise_max" => CovChoiceFile::ElementwiseMax,
-            "design_of" => {
-                CovChoiceFile::DesignOf { filter: r.filter.ok_or("missing field `filter` for kind `design_of`")? }
-            }
-            "interior" => CovChoiceFile::Interior { seed: need(r.seed)? },
-            _ => CovChoiceFile::WorstFor { filter: r.filter.ok_or("missing field `filter` for kind `worst_for`")? },
+            "worst_for" => CovChoiceFile::WorstFor { filter: field(&mut t, &kind, "filter")? },
+            _ => CovChoiceFile::DesignOf { filter: field(&mut t, &kind, "filter")? },
         })
     }
 }
@@ -415,6 +458,66 @@ impl Experiment {
     }
 }
 
+/// Refuses a user-given name that would corrupt the terminal or a file name: control characters
+/// (an ESC sequence printed in a message can clear the screen).
+pub fn check_name(key: &str, name: &str) -> Result<()> {
+    if let Some(c) = name.chars().find(|c| c.is_control()) {
+        return Err(Error::invalid(
+            key,
+            format!("contains the control character U+{:04X}: names must be printable", c as u32),
+        ));
+    }
+    Ok(())
+}
+
+/// The most trials a run may have: every count (trials × scenarios on the progress bar, the trial
+/// index of the random streams) then fits in 64 bits, and a count is exact in an f64 (< 2⁵³).
+pub const MAX_TRIALS: usize = 1_000_000_000_000;
+
+/// The one rule for a trial count, from the file (`trials`) or the command line (`--trials`).
+pub fn check_trials(key: &str, trials: usize) -> Result<()> {
+    if trials < 2 {
+        return Err(Error::invalid(key, "at least 2 trials are needed for a confidence interval"));
+    }
+    if trials > MAX_TRIALS {
+        return Err(Error::invalid(key, format!("{trials} trials is more than the limit of {MAX_TRIALS} (10¹²)")));
+    }
+    Ok(())
+}
+
+/// The one rule for `sample_trajectories`: at most one per trial, so a value above the trial count
+/// (from the file, or after `--trials` lowered it) keeps every trial's trajectory.
+pub fn sample_count(sample_trajectories: usize, trials: usize) -> usize {
+    sample_trajectories.min(trials)
+}
+
+/// What can be checked of the scenarios without designing a filter, so a bad scenario fails in
+/// seconds and not after every design: the coloured input's anisotropy against white noise's.
+fn check_scenarios_before_design(plant: &Plant, nominal: &Covariances, scenarios: &[Scenario]) -> Result<()> {
+    for (i, s) in scenarios.iter().enumerate() {
+        if let Input::Coloured { anisotropy } = &s.input {
+            let w = nominal.w();
+            let white = plant.steps() as f64 * crate::anisotropy::gaussian_anisotropy(&w);
+            let key = format!("scenarios.{}.input.anisotropy (scenarios[{i}])", s.name);
+            if !white.is_finite() {
+                return Err(Error::invalid(
+                    key,
+                    "the nominal noise covariance is singular: its anisotropy is infinite",
+                ));
+            }
+            if *anisotropy < white - 1e-12 {
+                return Err(Error::invalid(
+                    key,
+                    format!(
+                        "white noise with the nominal covariance already has anisotropy {white:.6}; a coloured input cannot have less (got {anisotropy})"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
 pub fn load(path: &Path) -> Result<Experiment> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -444,6 +547,7 @@ pub fn load_variants(path: &Path) -> Result<Vec<Experiment>> {
             Some(toml::Value::String(n)) => n,
             _ => return Err(Error::invalid(format!("{key}.name"), "each variant needs a `name` (a string)")),
         };
+        check_name(&format!("{key}.name"), &name)?;
         if !seen.insert(name.clone()) {
             return Err(Error::invalid(format!("{key}.name"), format!("variant name `{name}` is repeated")));
         }
@@ -479,6 +583,7 @@ fn merge(doc: &mut toml::Table, patch: toml::Table) {
 
 /// Parses experiment text; `file` is only used in messages.
 pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
+    check_name("experiment name", name)?;
     let raw: ExperimentFile = deserialize(file, text)?;
     resolve_file(name, raw, text)
 }
@@ -582,9 +687,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
     if p.horizon == 0 {
         return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
     }
-    if f.trials < 2 {
-        return Err(Error::invalid("trials", "at least 2 trials are needed for a confidence interval"));
-    }
+    check_trials("trials", f.trials)?;
     let a = from_rows("plant.A", &p.A, None)?;
     let n = a.nrows();
     if n == 0 || !a.is_square() {
@@ -637,11 +740,11 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
     }
     let known_input = match &p.known_input {
         None => Vec::new(),
-        Some(KnownInputFile::Values { values }) => {
+        Some(Strict(KnownInputFile::Values { values })) => {
             let m = from_rows("plant.known_input.values", values, Some((p.horizon, n)))?;
             (0..p.horizon).map(|k| m.row(k).transpose()).collect()
         }
-        Some(KnownInputFile::Sine { amplitude, frequency, phase }) => {
+        Some(Strict(KnownInputFile::Sine { amplitude, frequency, phase })) => {
             if amplitude.len() != n {
                 return Err(Error::invalid(
                     "plant.known_input.amplitude",
@@ -656,7 +759,8 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
 
     // Covariance blocks: x0 first, then the noise blocks in the order `plant.noise_blocks` gives.
     let mut seen = std::collections::BTreeSet::new();
-    for bn in &p.noise_blocks {
+    for (i, bn) in p.noise_blocks.iter().enumerate() {
+        check_name(&format!("plant.noise_blocks[{i}]"), bn)?;
         if bn == "x0" || !seen.insert(bn.as_str()) {
             return Err(Error::invalid("plant.noise_blocks", format!("block name `{bn}` is reserved or repeated")));
         }
@@ -763,7 +867,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
 
     let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
     let mut sets: Vec<Option<CovSet>> = vec![None; names.len()];
-    for (bn, s) in &f.sets {
+    for (bn, Strict(s)) in &f.sets {
         let key = format!("sets.{bn}");
         if f.disturbances.contains_key(bn) {
             return Err(Error::invalid(key, "a disturbance block has an energy bound, not a covariance set"));
@@ -802,6 +906,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
     }
     let mut fnames = std::collections::BTreeSet::new();
     for (i, fl) in f.filters.iter().enumerate() {
+        check_name(&format!("filters[{i}].name"), &fl.name)?;
         if !fnames.insert(fl.name.as_str()) {
             return Err(Error::invalid(format!("filters[{i}].name"), format!("filter name `{}` is repeated", fl.name)));
         }
@@ -822,6 +927,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
     let mut scenarios = Vec::new();
     let mut snames = std::collections::BTreeSet::new();
     for (i, s) in f.scenarios.into_iter().enumerate() {
+        check_name(&format!("scenarios[{i}].name"), &s.name)?;
         if !snames.insert(s.name.clone()) {
             return Err(Error::invalid(
                 format!("scenarios[{i}].name"),
@@ -863,9 +969,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
             return Err(Error::invalid("anisotropy", format!("must be finite and ≥ 0, got {a}")));
         }
     }
-    if f.sample_trajectories > f.trials {
-        return Err(Error::invalid("sample_trajectories", "cannot exceed the number of trials"));
-    }
+    check_scenarios_before_design(&plant, &nominal, &scenarios)?;
 
     Ok(Experiment {
         name: name.to_string(),
@@ -874,7 +978,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
         seed: f.seed,
         trials: f.trials,
         pattern: f.pattern,
-        sample_trajectories: f.sample_trajectories,
+        sample_trajectories: sample_count(f.sample_trajectories, f.trials),
         anisotropy: f.anisotropy,
         plant,
         nominal,
@@ -896,6 +1000,7 @@ fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<crate::plant::Modes> {
     }
     let mut names = std::collections::BTreeSet::new();
     for (i, m) in mf.mode.iter().enumerate() {
+        check_name(&format!("modes.mode[{i}].name"), &m.name)?;
         if !names.insert(m.name.as_str()) {
             return Err(Error::invalid(format!("modes.mode[{i}].name"), format!("mode name `{}` is repeated", m.name)));
         }

@@ -95,6 +95,25 @@ impl CovSet {
         Ok(CovSet { shape, psd })
     }
 
+    /// Whether `m` lies in the set (to rounding: 1e-9 relative), so that a promise made over the set
+    /// holds for a scenario with this covariance.
+    pub fn contains(&self, m: &Mat) -> bool {
+        let tol = 1e-9 * m.amax().max(1.0);
+        let inside = match &self.shape {
+            SetShape::Box { center, half_width } => {
+                m.shape() == center.shape()
+                    && (m - center).iter().zip(half_width.iter()).all(|(d, h)| d.abs() <= h + tol)
+            }
+            SetShape::Ball { center, radius } => m.shape() == center.shape() && (m - center).norm() <= radius + tol,
+            SetShape::Loewner { lower, upper } => {
+                m.shape() == lower.shape()
+                    && min_eigenvalue(&(m - lower)) >= -tol
+                    && min_eigenvalue(&(upper - m)) >= -tol
+            }
+        };
+        inside && (!self.psd || min_eigenvalue(m) >= -tol)
+    }
+
     pub fn kind(&self) -> String {
         let k = match self.shape {
             SetShape::Box { .. } => "box",

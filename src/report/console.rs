@@ -1,15 +1,54 @@
-//! The console table printed after each run.
+//! The console table printed after each run. It fits 80 columns: numbers have four significant
+//! figures (the tables keep every digit), and a filter name longer than [`NAME`] characters gets a
+//! line of its own above its numbers.
 
-use crate::run::RunOutcome;
+use crate::run::{RunOutcome, ScenarioOutcome};
 use crate::spec::Experiment;
 
+/// The width of the name column.
+const NAME: usize = 13;
+
+/// A number in at most 8 characters with four significant figures.
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 {
+        return format!("{x}");
+    }
+    if (1e-2..1e5).contains(&a) {
+        let prec = (3 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.prec$}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
 fn opt(v: Option<f64>) -> String {
-    v.map_or("—".to_string(), |x| format!("{x:.5}"))
+    v.map_or("—".to_string(), num)
+}
+
+/// z = (empirical − exact) / standard error; a deterministic input has every trial equal, so its
+/// empirical mean is exact (standard error zero to rounding) and z would only amplify rounding.
+fn z_score(mean: f64, se: f64, exact: f64) -> String {
+    let scale = mean.abs().max(exact.abs()).max(f64::MIN_POSITIVE);
+    if se <= 1e-9 * scale {
+        return if (mean - exact).abs() <= 1e-9 * scale { "exact".into() } else { "≠".into() };
+    }
+    let z = (mean - exact) / se;
+    if z.abs() < 100.0 { format!("{z:.2}") } else { format!("{z:.0}") }
+}
+
+/// The name column: the name itself, or a line of its own and a blank column when it is too long.
+fn name_cell(name: &str) -> (String, String) {
+    if name.chars().count() <= NAME {
+        (String::new(), format!("{name:NAME$}"))
+    } else {
+        (format!("  {name}\n"), " ".repeat(NAME))
+    }
 }
 
 /// One block per scenario, one line per filter: empirical mean ± 95 % half-width, exact, z-score of
-/// (empirical − exact) in standard errors (0 for a deterministic input, whose trials are all the
-/// same), guaranteed bound, worst case over the set.
+/// (empirical − exact) in standard errors ("exact" for a deterministic input), the guaranteed bound
+/// where the filter's promise holds in this scenario, worst case over the set.
 pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
     let gains = exp.anisotropy.is_some() || out.filters.iter().any(|f| f.design.gain_bound.is_some());
     let mut s = format!(
@@ -22,7 +61,6 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
         out.threads,
         out.total_seconds
     );
-    let w = exp.filters.iter().map(|f| f.name.len()).max().unwrap_or(6).max(6);
     for sc in &out.scenarios {
         s += &format!("\n{} — covariance {}, shape {}", sc.name, sc.covariance_label, sc.shape_label);
         if sc.disturbance.is_some() {
@@ -30,27 +68,27 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
         }
         s += "\n";
         s += &format!(
-            "  {:w$}  {:>22}  {:>10}  {:>6}  {:>10}  {:>10}\n",
+            "  {:NAME$}  {:>19}  {:>8}  {:>5}  {:>10}  {:>10}\n",
             "filter", "empirical ± 95%", "exact", "z", "guaranteed", "worst case"
         );
         for (f, spec) in exp.filters.iter().enumerate() {
             let st = &sc.mc.filters[f].total;
             let half = st.ci95().1 - st.mean;
             let ex = sc.exact[f].total;
-            let d = &out.filters[f];
+            let (above, name) = name_cell(&spec.name);
+            s += &above;
             s += &format!(
-                "  {:w$}  {:>12.5} ± {:<7.5}  {:>10.5}  {:>6.2}  {:>10}  {:>10}\n",
-                spec.name,
-                st.mean,
-                half,
-                ex,
-                if st.std_error() > 0.0 { (st.mean - ex) / st.std_error() } else { 0.0 },
-                opt(d.design.guarantee.as_ref().map(|g| g.total)),
-                opt(d.worst.as_ref().map(|w| w.total)),
+                "  {name}  {:>8} ± {:<8}  {:>8}  {:>5}  {:>10}  {:>10}\n",
+                num(st.mean),
+                num(half),
+                num(ex),
+                z_score(st.mean, st.std_error(), ex),
+                opt(sc.guaranteed[f]),
+                opt(out.filters[f].worst.as_ref().map(|w| w.total)),
             );
         }
         if gains {
-            s += &gain_block(exp, out, sc, w);
+            s += &gain_block(exp, out, sc);
         }
     }
     s
@@ -58,29 +96,26 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
 
 /// Seed 003's figures: mean-square gain E|Z̃|²/E|W|² (empirical with its 95 % half-width, exact, and
 /// exact for the noise alone), the filter's a-anisotropic norm² and its guaranteed γ².
-fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &crate::run::ScenarioOutcome, w: usize) -> String {
+fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> String {
     let a = sc.input_anisotropy.map_or("—".to_string(), |a| format!("{a:.3}"));
-    let mut s = format!("  mean-square gain, E|W|² = {:.3}, input anisotropy {a}\n", sc.input_power);
+    let level = exp.anisotropy.map_or(String::new(), |a| format!(", norm² at a = {a}"));
+    let mut s = format!("  mean-square gain, E|W|² = {:.3}, input anisotropy {a}{level}\n", sc.input_power);
     s += &format!(
-        "  {:w$}  {:>22}  {:>10}  {:>10}  {:>10}  {:>10}\n",
-        "filter",
-        "gain ± 95%",
-        "exact",
-        "noise only",
-        exp.anisotropy.map_or("norm²_a".to_string(), |a| format!("norm²(a={a})")),
-        "γ²"
+        "  {:NAME$}  {:>19}  {:>8}  {:>10}  {:>8}  {:>8}\n",
+        "filter", "gain ± 95%", "exact", "noise only", "norm²_a", "γ²"
     );
     for (f, spec) in exp.filters.iter().enumerate() {
         let st = &sc.mc.filters[f].total;
         let d = &out.filters[f];
         let p = sc.input_power;
+        let (above, name) = name_cell(&spec.name);
+        s += &above;
         s += &format!(
-            "  {:w$}  {:>12.5} ± {:<7.5}  {:>10.5}  {:>10.5}  {:>10}  {:>10}\n",
-            spec.name,
-            st.mean / p,
-            (st.ci95().1 - st.mean) / p,
-            sc.exact[f].total / p,
-            (sc.exact[f].total - d.deterministic_error) / p,
+            "  {name}  {:>8} ± {:<8}  {:>8}  {:>10}  {:>8}  {:>8}\n",
+            num(st.mean / p),
+            num((st.ci95().1 - st.mean) / p),
+            num(sc.exact[f].total / p),
+            num((sc.exact[f].total - d.deterministic_error) / p),
             opt(d.anisotropic.map(|x| x.norm_sq)),
             opt(d.design.gain_bound.map(|g| g.gamma_sq)),
         );

@@ -60,6 +60,7 @@ fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<
             serde_json::json!({
                 "name": f.name, "family": f.family, "params": f.params, "design_seconds": d.seconds,
                 "guarantee": d.design.guarantee.as_ref().map(|g| serde_json::json!({"kind": g.kind, "total": g.total})),
+                "claimed": d.claimed.as_ref().map(|c| c.total),
                 "worst_case": d.worst.as_ref().map(|w| w.total),
                 "design_covariance": d.design.design_covariance.as_ref().map(cov_json),
                 "diagnostics": d.design.diagnostics,
@@ -93,6 +94,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &
         "description": exp.description,
         "seed": exp.seed,
         "trials": exp.trials,
+        "sample_trajectories": exp.sample_trajectories,
         "threads": out.threads,
         "pattern": exp.pattern,
         "horizon": exp.plant.horizon,

@@ -81,8 +81,12 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.ci_high.push(hi);
             c.exact.push(Some(sc.exact[f].total));
             c.exact_terminal.push(sc.exact[f].per_step.last().copied());
-            c.guaranteed.push(d.design.guarantee.as_ref().map(|g| g.total));
-            c.guarantee_kind.push(d.design.guarantee.as_ref().map(|g| g.kind.clone()));
+            // A promise only where it holds in this scenario; the filter's belief is `claimed`.
+            let holds = sc.guaranteed[f];
+            c.guaranteed.push(holds);
+            c.guarantee_kind.push(holds.and(d.design.guarantee.as_ref().map(|g| g.kind.clone())));
+            c.claimed.push(d.claimed.as_ref().map(|cl| cl.total));
+            c.consistency.push(d.claimed.as_ref().map(|cl| sc.exact[f].total / cl.total));
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             let pt = d.design.per_trial.as_ref();
@@ -132,6 +136,8 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("exact_terminal", c.exact_terminal),
         col("guaranteed", c.guaranteed),
         col("guarantee_kind", c.guarantee_kind),
+        col("claimed", c.claimed),
+        col("consistency", c.consistency),
         col("worst_case", c.worst_case),
         col("worst_case_psd", c.worst_case_psd),
         col("violations", c.violations),
@@ -175,6 +181,8 @@ struct SummaryCols {
     exact_terminal: Vec<Option<f64>>,
     guaranteed: Vec<Option<f64>>,
     guarantee_kind: Vec<Option<String>>,
+    claimed: Vec<Option<f64>>,
+    consistency: Vec<Option<f64>>,
     worst_case: Vec<Option<f64>>,
     worst_case_psd: Vec<Option<bool>>,
     violations: Vec<Option<u64>>,
@@ -200,11 +208,12 @@ struct SummaryCols {
 
 /// One row per (scenario, filter, step).
 fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
-    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound) =
-        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound, mut claimed) =
+        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
-            let g = out.filters[f].design.guarantee.as_ref();
+            let g = out.filters[f].design.guarantee.as_ref().filter(|_| sc.guaranteed[f].is_some());
+            let cl = out.filters[f].claimed.as_ref();
             for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
                 let (l, h) = w.ci95();
                 sc_.push(sc.name.clone());
@@ -215,6 +224,7 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
                 hi.push(h);
                 ex.push(Some(sc.exact[f].per_step[k]));
                 bound.push(g.and_then(|g| g.per_step.get(k).copied()));
+                claimed.push(cl.and_then(|c| c.per_step.get(k).copied()));
             }
         }
     }
@@ -229,6 +239,7 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("mse_ci_high", hi),
         col("exact_mse", ex),
         col("bound", bound),
+        col("claimed", claimed),
     ])
 }
 

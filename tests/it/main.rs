@@ -16,5 +16,8 @@ mod hinf;
 mod kalman;
 mod markov_jump;
 mod minimax;
+mod output_safety;
+mod promises;
 mod recording;
 mod sdp;
+mod strict_files;

@@ -98,7 +98,7 @@ fn scenario(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Node> {
     let promised: Vec<String> = show
         .iter()
         .filter_map(|f| {
-            let p = promise(run.out, *f)?;
+            let p = promise(run.out, sc, *f)?;
             Some([
                 plus(&format!("{}/exact", mse_at(*f))),
                 plus(&run.at(&["promise", &sc.name, &exp.filters[*f].name, p.label()])),

@@ -39,12 +39,8 @@ pub fn scenario(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> Str
     for (f, spec) in exp.filters.iter().enumerate() {
         let st = &sc.mc.filters[f].total;
         let (lo, hi) = st.ci95();
-        let g = out.filters[f].design.guarantee.as_ref().map(|g| (g.kind == "exact_at_design", g.total));
-        let (guaranteed, claimed) = match g {
-            Some((true, v)) => ("".to_string(), num(v)),
-            Some((false, v)) => (num(v), "".to_string()),
-            None => (String::new(), String::new()),
-        };
+        let guaranteed = sc.guaranteed[f].map_or(String::new(), num);
+        let claimed = out.filters[f].claimed.as_ref().map_or(String::new(), |c| num(c.total));
         s.push_str(&format!(
             "| {} | {} [{}, {}] | {} | {} | {} | {} |\n",
             cell(&spec.name),

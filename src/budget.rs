@@ -1,0 +1,123 @@
+//! The memory a run needs, estimated from the experiment's sizes before anything is designed, so a
+//! run that cannot fit is refused at once with the figure and the key that drives it, instead of
+//! aborting after minutes with an allocation failure.
+
+use crate::error::{Error, Result};
+use crate::montecarlo::BLOCK;
+use crate::spec::{Experiment, Input};
+
+/// Bytes of one running mean/variance accumulator (n, mean, M2).
+const WELFORD: u64 = 24;
+/// Bytes of one row of steps.parquet while it is built and written (numbers, names, the copy the
+/// writer makes).
+const STEP_ROW: u64 = 256;
+/// Bytes of one row of gains.parquet (one nonzero gain entry) while it is built and written.
+const GAIN_ROW: u64 = 64;
+/// Bytes a small matrix costs beyond its entries (its header and the allocator's).
+const MATRIX: u64 = 64;
+/// Bytes per step, scenario and filter of the recording's series (empirical, interval, exact, bound).
+const RECORDED: u64 = 5 * 32;
+/// Monte Carlo accumulators alive at once per scenario: one per block of a wave, plus the total
+/// (montecarlo::run).
+const WAVE: u64 = 256;
+
+/// An estimate of the peak memory of `exp`, in bytes, with the dominant terms named.
+pub struct Estimate {
+    pub bytes: u64,
+    /// The dense matrices over the whole horizon (joint inputs, anisotropy): their side and bytes.
+    pub dense_side: u64,
+    pub dense_bytes: u64,
+}
+
+fn sat(xs: &[u64]) -> u64 {
+    xs.iter().fold(1u64, |a, &x| a.saturating_mul(x))
+}
+
+/// The peak memory of the run, from its sizes: the designed gains of every filter at every step, the
+/// Monte Carlo accumulators (per step, per filter, per block of a wave), what every scenario keeps
+/// (per-step means and exact errors), the per-step table, the recorded trajectories, and the dense
+/// matrices over the whole horizon that joint inputs and anisotropic analyses build.
+pub fn estimate(exp: &Experiment) -> Estimate {
+    let p = &exp.plant;
+    let steps = p.steps() as u64;
+    let (nx, ny, nz, nw) = (p.nx() as u64, p.ny() as u64, p.nz() as u64, p.nw() as u64);
+    let nf = exp.filters.len() as u64;
+    let nsc = exp.scenarios.len() as u64;
+    let q = p.n_modes().max(1) as u64;
+    // A filter's state has the plant's size in every family but the Galerkin one (2n: n positions
+    // and their velocities); a mode-indexed filter keeps one set of gains per mode and one more.
+    let design = exp
+        .filters
+        .iter()
+        .map(|f| {
+            let ns = match (f.family.as_str(), f.params.get("n").and_then(toml::Value::as_integer)) {
+                ("galerkin", Some(n)) if n > 0 => 2 * n as u64,
+                _ => nx,
+            };
+            let sets = if f.family == "markov_jump" { q + 1 } else { 1 };
+            let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
+            // Each entry as a number, and as a row of gains.parquet; each of the five matrices of a
+            // step is its own allocation.
+            let per_set = entries.saturating_mul(8 + GAIN_ROW).saturating_add(5 * MATRIX);
+            sat(&[steps, per_set, sets])
+        })
+        .fold(0u64, u64::saturating_add);
+    let live = sat(&[WAVE.min((exp.trials as u64).div_ceil(BLOCK)) + 1, nf, steps, WELFORD]);
+    let kept = sat(&[nsc, nf, steps, WELFORD + 8]);
+    let table = sat(&[nsc, nf, steps, STEP_ROW + RECORDED]);
+    let traj = sat(&[nsc, exp.sample_trajectories as u64, nf + 1, nz, steps, 8]);
+    let dense = exp.anisotropy.is_some()
+        || exp.filters.iter().any(|f| f.family == "anisotropic" || f.family == "hinf")
+        || exp.scenarios.iter().any(|s| s.input != Input::Independent);
+    let dense_side = if dense { nx.saturating_add(nw.saturating_mul(steps)) } else { 0 };
+    let dense_bytes = sat(&[3, dense_side, dense_side, 8]);
+    let bytes = [design, live, kept, table, traj, dense_bytes].iter().fold(0u64, |a, &x| a.saturating_add(x));
+    Estimate { bytes, dense_side, dense_bytes }
+}
+
+/// The memory available to a new allocation (Linux: MemAvailable of /proc/meminfo); None elsewhere.
+pub fn available() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Bytes in a short human form (1.2 GB).
+pub fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    match b {
+        _ if b >= 1e12 => format!("{:.1} TB", b / 1e12),
+        _ if b >= 1e9 => format!("{:.1} GB", b / 1e9),
+        _ => format!("{:.0} MB", (b / 1e6).max(1.0)),
+    }
+}
+
+/// Refuses a run whose estimated memory exceeds what the machine has available, naming the figure
+/// and the key that drives it (the horizon, or the string model's duration that sets it). The
+/// variants of a file are run one after the other but their results are all kept until written,
+/// so their estimates add up; the largest one is named.
+pub fn check(exps: &[Experiment]) -> Result<()> {
+    let Some(avail) = available() else { return Ok(()) };
+    let estimates: Vec<Estimate> = exps.iter().map(estimate).collect();
+    let total = estimates.iter().fold(0u64, |a, e| a.saturating_add(e.bytes));
+    if total <= avail {
+        return Ok(());
+    }
+    let (exp, est) = exps.iter().zip(&estimates).max_by_key(|(_, e)| e.bytes).expect("at least one variant");
+    let key = if exp.string.is_some() { "string.duration" } else { "plant.horizon" };
+    let why = if est.dense_bytes >= est.bytes / 2 {
+        format!("(dense {0}×{0} matrices over the whole horizon for the joint input or the anisotropy)", est.dense_side)
+    } else {
+        format!("({} steps × {} filters × {} scenarios)", exp.plant.steps(), exp.filters.len(), exp.scenarios.len())
+    };
+    let variant = exp.variant.as_deref().map_or(String::new(), |v| format!(" (variant `{v}`)"));
+    Err(Error::invalid(
+        format!("{key}{variant}"),
+        format!(
+            "the run needs about {} of memory {why}, but only {} is available: lower {key}",
+            human(total),
+            human(avail)
+        ),
+    ))
+}

@@ -1,0 +1,91 @@
+//! What the columns promise (issue 14 §3): `guaranteed` only where a bound holds in the scenario,
+//! the filter's own belief as `claimed` with its consistency exact / claimed, and a console table
+//! that fits 80 columns and says "exact" instead of dividing by a zero standard error.
+
+use filterbench::{report, run};
+
+/// A Kalman filter's error at its design covariance is its belief: `claimed` in every scenario,
+/// `guaranteed` in none; where the scenario's covariance is the design one, exact = claimed
+/// (consistency 1 to rounding, a deterministic identity).
+#[test]
+fn kalman_claims_but_does_not_guarantee() {
+    let exp = crate::common::baseline(200);
+    let out = run::run(&exp, false).unwrap();
+    let k = exp.filter_index("kalman_nominal").unwrap();
+    let claimed = out.filters[k].claimed.as_ref().expect("a Kalman filter has a design P");
+    let g = out.filters[k].design.guarantee.as_ref().unwrap();
+    assert_eq!(claimed.total, g.total, "claimed is the summed error at the design covariance");
+    assert_eq!(claimed.per_step, g.per_step);
+    for sc in &out.scenarios {
+        assert_eq!(sc.guaranteed[k], None, "{}: a belief is not a guarantee", sc.name);
+    }
+    let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
+    let consistency = nominal.exact[k].total / claimed.total;
+    assert!((consistency - 1.0).abs() < 1e-9, "consistent at its design covariance: {consistency}");
+    let worst = out.scenarios.iter().find(|s| s.name == "worst_for_kalman_nominal").unwrap();
+    assert!(worst.exact[k].total > claimed.total * 1.01, "over-confident at the worst case of the set");
+}
+
+/// The minimax bound holds for every covariance of its sets: it stays `guaranteed` in every scenario
+/// of minimax_box (all of them inside the sets), and the exact error never exceeds it.
+#[test]
+fn minimax_keeps_its_guarantee_inside_its_sets() {
+    let exp = crate::common::load("minimax_box", 50);
+    let out = run::run(&exp, false).unwrap();
+    let m = exp.filter_index("minimax").unwrap();
+    let bound = out.filters[m].design.guarantee.as_ref().unwrap().total;
+    for sc in &out.scenarios {
+        assert_eq!(sc.guaranteed[m], Some(bound), "{}", sc.name);
+        assert!(sc.exact[m].total <= bound * (1.0 + 1e-9), "{}", sc.name);
+    }
+    let k = exp.filter_index("kalman_nominal").unwrap();
+    assert!(out.scenarios.iter().all(|s| s.guaranteed[k].is_none()));
+}
+
+/// The tables carry the split: `guaranteed`/`bound` null for a Kalman filter, `claimed` and
+/// `consistency` filled in.
+#[test]
+fn tables_carry_claimed_and_consistency() {
+    use polars::prelude::*;
+    let exp = crate::common::baseline(100);
+    let out = run::run(&exp, false).unwrap();
+    let tmp = crate::common::TempDir::new();
+    report::parquet::write_tables(&[(&exp, &out)], tmp.path()).unwrap();
+    let read = |f: &str| ParquetReader::new(std::fs::File::open(tmp.path().join(f)).unwrap()).finish().unwrap();
+    let s = read("summary.parquet");
+    assert_eq!(s.column("guaranteed").unwrap().null_count(), s.height());
+    assert_eq!(s.column("guarantee_kind").unwrap().null_count(), s.height());
+    let (claimed, exact, consistency) = (
+        s.column("claimed").unwrap().f64().unwrap().clone(),
+        s.column("exact").unwrap().f64().unwrap().clone(),
+        s.column("consistency").unwrap().f64().unwrap().clone(),
+    );
+    for i in 0..s.height() {
+        let (c, e, r) = (claimed.get(i).unwrap(), exact.get(i).unwrap(), consistency.get(i).unwrap());
+        assert!((r - e / c).abs() <= 1e-12 * r.abs(), "consistency = exact / claimed");
+    }
+    let st = read("steps.parquet");
+    assert_eq!(st.column("bound").unwrap().null_count(), st.height());
+    assert_eq!(st.column("claimed").unwrap().null_count(), 0);
+}
+
+/// 80 columns whatever the filter names, and "exact" for a deterministic input (every trial the
+/// same worst-case input: standard error zero) instead of a z of ±1e16.
+#[test]
+fn console_fits_80_columns_and_says_exact_for_deterministic_inputs() {
+    let text =
+        crate::common::text("hinf_tradeoff").replace("\"kalman_predictor\"", "\"kalman_predictor_with_a_long_name\"");
+    let exp = filterbench::spec::parse("hinf_tradeoff", "h.toml", &text).unwrap();
+    let exp = filterbench::spec::Experiment { trials: 50, ..exp };
+    let out = run::run(&exp, false).unwrap();
+    let table = report::console::table(&exp, &out);
+    let mut deterministic = 0;
+    for line in table.lines() {
+        assert!(line.chars().count() <= 80, "{} columns: {line}", line.chars().count());
+        assert!(!line.contains("e16") && !line.contains("e15"), "{line}");
+        deterministic += (line.contains(" exact ") && !line.contains("empirical")) as usize;
+    }
+    assert!(table.contains("\n  kalman_predictor_with_a_long_name\n"), "a long name gets its own line");
+    // Three worst-input scenarios × five filters: every trial is the same input.
+    assert!(deterministic >= 15, "z says exact for the deterministic scenarios:\n{table}");
+}
