@@ -16,6 +16,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
     let sampler = NoiseSampler::new(&exp.plant, &exp.sampling(&covs[0]), &exp.scenarios[0].shape);
     let ratios = run::ratio_check(exp, &filters);
+    let nees: Vec<_> = filters.iter().map(|f| f.nees_weights.clone()).collect();
     let sc = montecarlo::Scenario {
         plant: &exp.plant,
         ops: &montecarlo::PlantOps::new(&exp.plant),
@@ -24,6 +25,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
         seed: exp.seed,
         index: 0,
         ratios: ratios.as_ref(),
+        nees: &nees,
     };
     let trials = exp.trials as u64;
     let steps = exp.plant.steps() as f64;

@@ -14,6 +14,7 @@ pub mod kind;
 pub mod linalg;
 pub mod linop;
 pub mod montecarlo;
+pub mod nees;
 pub mod noise;
 pub mod plant;
 pub mod realization;

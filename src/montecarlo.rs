@@ -29,6 +29,9 @@ pub struct FilterStats {
     /// For a filter with a per-trial bound: the largest ratio seen and the trials at or above it.
     pub max_ratio: f64,
     pub violations: u64,
+    /// e[k]ᵀ W[k] e[k] at each step, for a filter with a claimed covariance ([`crate::nees`]);
+    /// empty otherwise (and at a step without a weight the accumulator stays empty).
+    pub nees: Vec<Welford>,
 }
 
 /// Everything one scenario's Monte Carlo run accumulates.
@@ -41,17 +44,18 @@ pub struct McStats {
 }
 
 impl McStats {
-    fn new(nf: usize, steps: usize) -> Self {
+    fn new(sc: &Scenario) -> Self {
+        let (nf, steps) = (sc.filters.len(), sc.plant.steps());
         McStats {
-            filters: vec![
-                FilterStats {
+            filters: (0..nf)
+                .map(|f| FilterStats {
                     total: Welford::default(),
                     steps: vec![Welford::default(); steps],
                     max_ratio: 0.0,
-                    violations: 0
-                };
-                nf
-            ],
+                    violations: 0,
+                    nees: if sc.nees_weights(f).is_some() { vec![Welford::default(); steps] } else { Vec::new() },
+                })
+                .collect(),
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
         }
     }
@@ -60,7 +64,7 @@ impl McStats {
             a.total.merge(&b.total);
             a.max_ratio = a.max_ratio.max(b.max_ratio);
             a.violations += b.violations;
-            for (x, y) in a.steps.iter_mut().zip(&b.steps) {
+            for (x, y) in a.steps.iter_mut().zip(&b.steps).chain(a.nees.iter_mut().zip(&b.nees)) {
                 x.merge(y);
             }
         }
@@ -85,6 +89,14 @@ pub struct Scenario<'a> {
     pub index: usize,
     /// Per-trial ratio checks (seed 002), if any filter has one.
     pub ratios: Option<&'a RatioCheck<'a>>,
+    /// Per filter, the NEES weights W[k] of a filter with a claimed covariance (empty: none).
+    pub nees: &'a [Option<Vec<Option<Mat>>>],
+}
+
+impl Scenario<'_> {
+    fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
+        self.nees.get(f)?.as_deref()
+    }
 }
 
 /// The plant's matrices as [`LinOp`]s (sparse when large and mostly zero), each distinct matrix
@@ -270,13 +282,26 @@ fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut 
     }
 }
 
+/// (z − ẑ)ᵀ W (z − ẑ), without forming z − ẑ.
+fn weighted_square(w: &Mat, z: &Vector, zhat: &Vector) -> f64 {
+    let n = z.len();
+    let mut q = 0.0;
+    for j in 0..n {
+        let ej = z[j] - zhat[j];
+        for i in 0..n {
+            q += (z[i] - zhat[i]) * w[(i, j)] * ej;
+        }
+    }
+    q
+}
+
 fn squared_error(z: &Vector, zhat: &Vector) -> f64 {
     z.iter().zip(zhat.iter()).map(|(a, b)| (a - b) * (a - b)).sum()
 }
 
 fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStats {
     let nf = sc.filters.len();
-    let mut st = McStats::new(nf, sc.plant.steps());
+    let mut st = McStats::new(sc);
     let pairs = McStats::pairs(nf);
     let plant = sc.plant;
     let mut totals = vec![0.0; nf];
@@ -286,6 +311,9 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
         run_trial(sc, ws, t, |k, f, z, zhat| {
             let e2 = squared_error(z, zhat);
             per_filter[f].steps[k].push(e2);
+            if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
+                per_filter[f].nees[k].push(weighted_square(w, z, zhat));
+            }
             if plant.counts(k) {
                 totals[f] += e2;
             }
@@ -310,7 +338,7 @@ const WAVE: u64 = 256;
 /// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
 /// number of trials finished by each block.
 pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McStats {
-    let mut out = McStats::new(sc.filters.len(), sc.plant.steps());
+    let mut out = McStats::new(sc);
     let nblocks = trials.div_ceil(BLOCK);
     for wave in (0..nblocks).step_by(WAVE as usize) {
         let parts: Vec<McStats> = (wave..(wave + WAVE).min(nblocks))

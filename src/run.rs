@@ -13,7 +13,7 @@ use crate::families::{Design, registry};
 use crate::linalg::Mat;
 use crate::montecarlo::{self, McStats, Trajectory};
 use crate::noise::{JointInput, NoiseSampler};
-use crate::plant::Covariances;
+use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
 use crate::spec::{Experiment, InputChoice};
 
@@ -28,6 +28,8 @@ pub struct DesignedFilter {
     pub deterministic_error: f64,
     /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
     pub claimed: Option<Claimed>,
+    /// Its NEES weight per step, P_z[k]⁺ / rank, where it claims a covariance ([`crate::nees`]).
+    pub nees_weights: Option<Vec<Option<Mat>>>,
 }
 
 /// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
@@ -85,6 +87,9 @@ pub struct ScenarioOutcome {
     /// Per filter: its guaranteed summed error where the promise holds in this scenario
     /// ([`guarantee_holds`]), else None.
     pub guaranteed: Vec<Option<f64>>,
+    /// Per filter with a claimed covariance: the exact NEES per step (None at a step where it
+    /// claims no error).
+    pub nees_exact: Vec<Option<Vec<Option<f64>>>>,
 }
 
 pub struct RunOutcome {
@@ -114,7 +119,18 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             };
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
             let claimed = Claimed::of(&exp.plant, &design);
-            Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error, claimed })
+            let nees_weights = match (&claimed, &design.design_covariance) {
+                (Some(_), Some(cov)) => {
+                    let at_design = |p: &Plant, r: &Realization| Ok(exact::error(p, r, cov));
+                    Some(crate::nees::weights(&crate::nees::error_moments(
+                        &exp.plant,
+                        &design.realization,
+                        &at_design,
+                    )?))
+                }
+                _ => None,
+            };
+            Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error, claimed, nees_weights })
         })
         .collect();
     designed.into_iter().collect()
@@ -279,6 +295,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let reals: Vec<&crate::realization::Realization> = filters.iter().map(|f| &f.design.realization).collect();
     let ratios = ratio_check(exp, &filters);
     let ops = montecarlo::PlantOps::new(&exp.plant);
+    let nees_weights: Vec<_> = filters.iter().map(|f| f.nees_weights.clone()).collect();
 
     // One bar per scenario, counting the trials the user asked for (not trials × scenarios).
     let trials = exp.trials as u64;
@@ -329,18 +346,28 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             seed: exp.seed,
             index: i,
             ratios: ratios.as_ref(),
+            nees: &nees_weights,
         };
         let t = Instant::now();
         let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
         let mc_seconds = t.elapsed().as_secs_f64();
         let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
-        let exact = match &joint {
-            None => reals.iter().map(|r| Ok(exact::error_with_mean(&exp.plant, r, &cov, w_mean.as_ref()))).collect(),
-            Some(j) => {
-                let (mean, jcov) = j.moments();
-                reals.iter().map(|r| exact::error_joint(&exp.plant, r, &mean, &jcov)).collect::<Result<Vec<_>>>()
-            }
-        }?;
+        let moments = joint.as_ref().map(|j| j.moments());
+        let exact_of = |p: &Plant, r: &Realization| match &moments {
+            None => Ok(exact::error_with_mean(p, r, &cov, w_mean.as_ref())),
+            Some((mean, jcov)) => exact::error_joint(p, r, mean, jcov),
+        };
+        let exact = reals.iter().map(|r| exact_of(&exp.plant, r)).collect::<Result<Vec<_>>>()?;
+        let nees_exact = filters
+            .iter()
+            .map(|f| match &f.nees_weights {
+                Some(w) => {
+                    let m = crate::nees::error_moments(&exp.plant, &f.design.realization, &exact_of)?;
+                    Ok(Some(crate::nees::exact(w, &m)))
+                }
+                None => Ok(None),
+            })
+            .collect::<Result<Vec<_>>>()?;
         let covariance_label = match &s.input {
             InputChoice::Coloured { anisotropy } => format!("coloured(a={anisotropy})"),
             InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
@@ -363,6 +390,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             mc_seconds,
             trajectories,
             guaranteed,
+            nees_exact,
         });
     }
     bar.finish_and_clear();

@@ -87,6 +87,9 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.guarantee_kind.push(holds.and(d.design.guarantee.as_ref().map(|g| g.kind.clone())));
             c.claimed.push(d.claimed.as_ref().map(|cl| cl.total));
             c.consistency.push(d.claimed.as_ref().map(|cl| sc.exact[f].total / cl.total));
+            let (avg_exact, avg_empirical) = nees_averages(&exp.plant, sc, f);
+            c.nees_exact.push(avg_exact);
+            c.nees_empirical.push(avg_empirical);
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             let pt = d.design.per_trial.as_ref();
@@ -138,6 +141,8 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("guarantee_kind", c.guarantee_kind),
         col("claimed", c.claimed),
         col("consistency", c.consistency),
+        col("nees_exact", c.nees_exact),
+        col("nees_empirical", c.nees_empirical),
         col("worst_case", c.worst_case),
         col("worst_case_psd", c.worst_case_psd),
         col("violations", c.violations),
@@ -183,6 +188,8 @@ struct SummaryCols {
     guarantee_kind: Vec<Option<String>>,
     claimed: Vec<Option<f64>>,
     consistency: Vec<Option<f64>>,
+    nees_exact: Vec<Option<f64>>,
+    nees_empirical: Vec<Option<f64>>,
     worst_case: Vec<Option<f64>>,
     worst_case_psd: Vec<Option<bool>>,
     violations: Vec<Option<u64>>,
@@ -206,10 +213,30 @@ struct SummaryCols {
     mc_seconds: Vec<f64>,
 }
 
+/// A filter's NEES averaged over the steps that count and where it claims an error: exact, and
+/// the mean of the per-step Monte Carlo means.
+fn nees_averages(
+    plant: &crate::plant::Plant,
+    sc: &crate::run::ScenarioOutcome,
+    f: usize,
+) -> (Option<f64>, Option<f64>) {
+    let Some(exact) = &sc.nees_exact[f] else { return (None, None) };
+    let ks: Vec<usize> = (0..exact.len()).filter(|k| plant.counts(*k) && exact[*k].is_some()).collect();
+    if ks.is_empty() {
+        return (None, None);
+    }
+    let n = ks.len() as f64;
+    let ex = ks.iter().map(|k| exact[*k].unwrap_or(0.0)).sum::<f64>() / n;
+    let emp =
+        sc.mc.filters[f].nees.get(ks[0]).map(|_| ks.iter().map(|k| sc.mc.filters[f].nees[*k].mean).sum::<f64>() / n);
+    (Some(ex), emp)
+}
+
 /// One row per (scenario, filter, step).
 fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound, mut claimed) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+    let (mut nees_ex, mut nees_mean, mut nees_lo, mut nees_hi) = (vec![], vec![], vec![], vec![]);
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
             let g = out.filters[f].design.guarantee.as_ref().filter(|_| sc.guaranteed[f].is_some());
@@ -225,6 +252,11 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
                 ex.push(Some(sc.exact[f].per_step[k]));
                 bound.push(g.and_then(|g| g.per_step.get(k).copied()));
                 claimed.push(cl.and_then(|c| c.per_step.get(k).copied()));
+                nees_ex.push(sc.nees_exact[f].as_ref().and_then(|v| v[k]));
+                let nw = sc.mc.filters[f].nees.get(k).filter(|w| w.n > 0);
+                nees_mean.push(nw.map(|w| w.mean));
+                nees_lo.push(nw.map(|w| w.ci95().0));
+                nees_hi.push(nw.map(|w| w.ci95().1));
             }
         }
     }
@@ -240,6 +272,10 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("exact_mse", ex),
         col("bound", bound),
         col("claimed", claimed),
+        col("nees_exact", nees_ex),
+        col("nees_mean", nees_mean),
+        col("nees_ci_low", nees_lo),
+        col("nees_ci_high", nees_hi),
     ])
 }
 

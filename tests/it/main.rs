@@ -16,6 +16,7 @@ mod hinf;
 mod kalman;
 mod markov_jump;
 mod minimax;
+mod nees;
 mod output_safety;
 mod promises;
 mod recording;
