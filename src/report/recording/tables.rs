@@ -67,9 +67,36 @@ pub fn summary(exp: &Experiment, out: &RunOutcome) -> String {
          the error the filter attains at its own design covariance, which another input may exceed.\n\n",
         exp.plant.steps()
     ));
+    if let Some(a) = exp.anisotropy {
+        s.push_str(&anisotropic_norms(exp, out, a));
+    }
     for sc in &out.scenarios {
         s.push_str(&scenario(exp, out, sc));
         s.push('\n');
     }
+    s
+}
+
+/// Seed 003's figures of every filter, which do not depend on the scenario: the exact a-anisotropic
+/// norm² at the file's level and its limits, beside the γ² a design guarantees.
+fn anisotropic_norms(exp: &Experiment, out: &RunOutcome, a: f64) -> String {
+    let mut s = format!(
+        "### norms at anisotropy a = {a}\n\n| filter | \\|\\|\\|F\\|\\|\\|²_a | ‖F‖₂²/lw (a = 0) | ‖F‖∞² (a → ∞) | γ² | for a ≤ |\n\
+         |---|---:|---:|---:|---:|---:|\n"
+    );
+    for (spec, d) in exp.filters.iter().zip(&out.filters) {
+        let Some(n) = d.anisotropic else { continue };
+        let gb = d.design.gain_bound;
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
+            cell(&spec.name),
+            num(n.norm_sq),
+            num(n.h2_sq),
+            num(n.hinf_sq),
+            gb.map_or(String::new(), |g| num(g.gamma_sq)),
+            gb.map_or(String::new(), |g| num(g.anisotropy)),
+        ));
+    }
+    s.push('\n');
     s
 }
