@@ -6,6 +6,7 @@
 //! (σ_ij = sqrt((Σ_ii Σ_jj + Σ_ij²)/n) for Gaussian draws; 903 entries, family-wise about 0.6 %);
 //! deterministic identities to rounding (1e-9 relative); the SDP's guarantee to the solver's
 //! tolerance (1e-6 relative).
+use crate::common::Patch;
 
 use filterbench::anisotropy::{coloured_covariance, error_gram, gaussian_anisotropy, realization_norm};
 use filterbench::exact;
@@ -19,9 +20,9 @@ use crate::common;
 /// The shapes test plant with dropouts (p = 0.7) and anisotropic inputs added, as text.
 pub(crate) fn dropout_shapes_text(pattern: &str) -> String {
     common::SHAPES_TOML
-        .replace("PATTERN", pattern)
-        .replace("known_input = {", "arrival = 0.7\nknown_input = {")
-        .replace("trials = 6000", "trials = 5000")
+        .patch("PATTERN", pattern)
+        .patch("known_input = {", "arrival = 0.7\nknown_input = {")
+        .patch("trials = 6000", "trials = 5000")
         + r#"
 [[scenarios]]
 name = "coloured"

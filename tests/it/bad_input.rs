@@ -1,5 +1,6 @@
 //! Bad input gets one clear line naming the key or path and the cause, a non-zero exit, no panic,
 //! and leaves the output folder as it was.
+use crate::common::Patch;
 
 use std::path::Path;
 use std::process::Command;
@@ -43,35 +44,35 @@ fn check_failure(o: &std::process::Output, needles: &[&str]) {
 
 #[test]
 fn unknown_key() {
-    let t = baseline_text().replace("first_measurement = 1", "first_measurement = 1\nhorizn = 3");
+    let t = baseline_text().patch("first_measurement = 1", "first_measurement = 1\nhorizn = 3");
     fails_cleanly(&t, &["plant", "unknown field `horizn`"]);
 }
 
 #[test]
 fn missing_field() {
-    let t = baseline_text().replace("trials = 20000\n", "");
+    let t = baseline_text().patch("trials = 20000\n", "");
     fails_cleanly(&t, &["missing field `trials`"]);
 }
 
 #[test]
 fn wrong_matrix_size() {
-    let t = baseline_text().replace("C = [[0.5, 0.4,  0.1],", "C = [[0.5, 0.4],");
+    let t = baseline_text().patch("C = [[0.5, 0.4,  0.1],", "C = [[0.5, 0.4],");
     fails_cleanly(&t, &["plant.C", "row 2 has 3 entries"]);
-    let t = baseline_text().replace("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 0], [0, 1]]");
+    let t = baseline_text().patch("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 0], [0, 1]]");
     fails_cleanly(&t, &["nominal.x0", "3×3"]);
 }
 
 #[test]
 fn covariance_not_symmetric_or_not_psd() {
-    let t = baseline_text().replace("measurement = [[ 0.9, -0.4, 0.2],", "measurement = [[ 0.9, -0.3, 0.2],");
+    let t = baseline_text().patch("measurement = [[ 0.9, -0.4, 0.2],", "measurement = [[ 0.9, -0.3, 0.2],");
     fails_cleanly(&t, &["nominal.measurement", "not symmetric"]);
-    let t = baseline_text().replace("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 2, 0], [2, 1, 0], [0, 0, 1]]");
+    let t = baseline_text().patch("x0 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "x0 = [[1, 2, 0], [2, 1, 0], [0, 0, 1]]");
     fails_cleanly(&t, &["nominal.x0", "not positive semidefinite"]);
 }
 
 #[test]
 fn horizon_zero() {
-    let t = baseline_text().replace("horizon = 50", "horizon = 0");
+    let t = baseline_text().patch("horizon = 50", "horizon = 0");
     fails_cleanly(&t, &["plant.horizon", "at least 1"]);
 }
 
@@ -79,7 +80,7 @@ fn horizon_zero() {
 fn unknown_family_and_filter_reference() {
     let t = baseline_text().replacen("family = \"kalman\"", "family = \"kalmann\"", 1);
     fails_cleanly(&t, &["filters.kalman_nominal.family", "unknown family"]);
-    let t = baseline_text().replace("filter = \"kalman_nominal\" }", "filter = \"nobody\" }");
+    let t = baseline_text().patch("filter = \"kalman_nominal\" }", "filter = \"nobody\" }");
     fails_cleanly(&t, &["scenarios.worst_for_kalman_nominal.covariance.filter", "nobody"]);
 }
 
@@ -113,38 +114,38 @@ fn bad_uncertainty_sets() {
     let measurement_set = "[sets.measurement]\nkind = \"box\"\nhalf_width = 0.25\npsd = true\n";
     assert!(minimax_box_text().contains(measurement_set));
     // Empty: the lower end is above the upper end.
-    let t = minimax_box_text().replace(
+    let t = minimax_box_text().patch(
         measurement_set,
         "[sets.measurement]\nkind = \"loewner\"\nlower = [[2, 0, 0], [0, 2, 0], [0, 0, 2]]\nupper = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n",
     );
     fails_cleanly(&t, &["sets.measurement", "empty"]);
     // The nominal covariance outside its own set.
-    let t = minimax_box_text().replace(
+    let t = minimax_box_text().patch(
         measurement_set,
         "[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\ncenter = [[2, 0, 0], [0, 2, 0], [0, 0, 2]]\n",
     );
     fails_cleanly(&t, &["sets.measurement", "outside its own box"]);
-    let t = minimax_box_text().replace(
+    let t = minimax_box_text().patch(
         measurement_set,
         "[sets.measurement]\nkind = \"ball\"\nradius = 0.1\ncenter = [[2, 0, 0], [0, 2, 0], [0, 0, 2]]\n",
     );
     fails_cleanly(&t, &["sets.measurement", "outside its own ball"]);
     // Wrong size.
     let t = minimax_box_text()
-        .replace(measurement_set, "[sets.measurement]\nkind = \"box\"\nhalf_width = [[0.1, 0.1], [0.1, 0.1]]\n");
+        .patch(measurement_set, "[sets.measurement]\nkind = \"box\"\nhalf_width = [[0.1, 0.1], [0.1, 0.1]]\n");
     fails_cleanly(&t, &["sets.measurement.half_width", "3×3"]);
     // A set on a block that does not exist.
-    let t = minimax_box_text().replace("[sets.measurement]", "[sets.measurment]");
+    let t = minimax_box_text().patch("[sets.measurement]", "[sets.measurment]");
     fails_cleanly(&t, &["sets.measurment", "unknown covariance block"]);
 }
 
 #[test]
 fn minimax_without_a_set() {
     let t = baseline_text()
-        .replace("[sets.process]\nkind = \"ball\"\nradius = 0.1\n", "")
-        .replace("[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\n", "")
-        .replace("[[scenarios]]\nname = \"box_vertex\"\ncovariance = { kind = \"vertex\", seed = 1 }\nshape = { kind = \"gaussian\" }\n", "")
-        .replace("[[scenarios]]\nname = \"worst_for_kalman_nominal\"\ncovariance = { kind = \"worst_for\", filter = \"kalman_nominal\" }\nshape = { kind = \"gaussian\" }\n", "")
+        .patch("[sets.process]\nkind = \"ball\"\nradius = 0.1\n", "")
+        .patch("[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\n", "")
+        .patch("[[scenarios]]\nname = \"box_vertex\"\ncovariance = { kind = \"vertex\", seed = 1 }\nshape = { kind = \"gaussian\" }\n", "")
+        .patch("[[scenarios]]\nname = \"worst_for_kalman_nominal\"\ncovariance = { kind = \"worst_for\", filter = \"kalman_nominal\" }\nshape = { kind = \"gaussian\" }\n", "")
         + "\n[[filters]]\nname = \"minimax\"\nfamily = \"minimax\"\n";
     fails_cleanly(&t, &["minimax", "needs an uncertainty set"]);
 }
@@ -152,18 +153,18 @@ fn minimax_without_a_set() {
 #[test]
 fn bad_disturbances() {
     let text = crate::common::text("minimax_energy");
-    let t = text.replace(
+    let t = text.patch(
         "[disturbances.u]\nweight = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
         "[disturbances.u]\nweight = [[1, 0, 0], [0, 0, 0], [0, 0, 1]]",
     );
     fails_cleanly(&t, &["disturbances.u.weight", "positive definite"]);
-    let t = text.replace("energy = 0.5\n\n[disturbances.v]", "energy = -1\n\n[disturbances.v]");
+    let t = text.patch("energy = 0.5\n\n[disturbances.v]", "energy = -1\n\n[disturbances.v]");
     fails_cleanly(&t, &["disturbances.u.energy"]);
-    let t = text.replace("[nominal]\n", "[nominal]\nu = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n");
+    let t = text.patch("[nominal]\n", "[nominal]\nu = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n");
     fails_cleanly(&t, &["nominal.u", "disturbance block has no covariance"]);
-    let t = text.replace("[disturbances.v]", "[disturbances.w]");
+    let t = text.patch("[disturbances.v]", "[disturbances.w]");
     fails_cleanly(&t, &["disturbances.w", "not a noise block"]);
-    let t = baseline_text().replace(
+    let t = baseline_text().patch(
         "name = \"nominal_laplace\"\n",
         "name = \"nominal_laplace\"\ndisturbance = { kind = \"random\", seed = 1 }\n",
     );
@@ -173,7 +174,7 @@ fn bad_disturbances() {
 #[test]
 fn time_varying_c_of_the_wrong_length_or_size() {
     let text = crate::common::text("hinf_regression");
-    let t = text.replace("horizon = 60", "horizon = 59");
+    let t = text.patch("horizon = 60", "horizon = 59");
     fails_cleanly(&t, &["plant.C_steps", "one matrix per step"]);
     let t = text.replacen("[[1.0, 0.000000, 1.000000]]", "[[1.0, 0.000000]]", 1);
     fails_cleanly(&t, &["plant.C_steps[0]", "1×3"]);
@@ -181,28 +182,28 @@ fn time_varying_c_of_the_wrong_length_or_size() {
 
 #[test]
 fn bad_dropouts_anisotropy_and_variants() {
-    let base = crate::common::text("aniso_dropout").replace("horizon = 200", "horizon = 10");
-    fails_cleanly(&base.replace("arrival = 0.97", "arrival = 1.5"), &["plant.arrival", "probability in (0, 1]"]);
+    let base = crate::common::text("aniso_dropout").patch("horizon = 200", "horizon = 10");
+    fails_cleanly(&base.patch("arrival = 0.97", "arrival = 1.5"), &["plant.arrival", "probability in (0, 1]"]);
     fails_cleanly(
-        &base.replace("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", "anisotropy = -1.0\n\n[[filters]]\nname = \"h2"),
+        &base.patch("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", "anisotropy = -1.0\n\n[[filters]]\nname = \"h2"),
         &["filters.anisotropic.anisotropy", "≥ 0"],
     );
-    fails_cleanly(&base.replace("anisotropy = \"inf\"", "anisotropy = \"infinite\""), &["hinf_suboptimal", "\"inf\""]);
-    fails_cleanly(&base.replace("pattern = \"prediction\"", "pattern = \"filtering\""), &["anisotropic", "predictor"]);
+    fails_cleanly(&base.patch("anisotropy = \"inf\"", "anisotropy = \"infinite\""), &["hinf_suboptimal", "\"inf\""]);
+    fails_cleanly(&base.patch("pattern = \"prediction\"", "pattern = \"filtering\""), &["anisotropic", "predictor"]);
     fails_cleanly(
-        &base.replace("x0 = [[0.0, 0.0], [0.0, 0.0]]", "x0 = [[1.0, 0.0], [0.0, 1.0]]"),
+        &base.patch("x0 = [[0.0, 0.0], [0.0, 0.0]]", "x0 = [[1.0, 0.0], [0.0, 1.0]]"),
         &["anisotropic", "x(0) known"],
     );
     fails_cleanly(
-        &base.replace("kind = \"coloured\", anisotropy = 60.0", "kind = \"coloured\", anisotropy = -2.0"),
+        &base.patch("kind = \"coloured\", anisotropy = 60.0", "kind = \"coloured\", anisotropy = -2.0"),
         &["scenarios.coloured_beyond_design.input.anisotropy", "≥ 0"],
     );
     fails_cleanly(
-        &base.replace("plant = { arrival = 0.99 }", "plant = { arival = 0.99 }"),
+        &base.patch("plant = { arrival = 0.99 }", "plant = { arival = 0.99 }"),
         &["variant `p=0.99`", "unknown field `arival`"],
     );
     fails_cleanly(
-        &base.replace("plant = { arrival = 0.95 }", "plant = { arrival = 0.0 }"),
+        &base.patch("plant = { arrival = 0.95 }", "plant = { arrival = 0.0 }"),
         &["variant `p=0.95`", "plant.arrival"],
     );
 }
@@ -212,38 +213,32 @@ fn invalid_markov_chains() {
     let base = crate::common::text("markov_jump");
     let pi = "transition = [[0.9, 0.08, 0.02], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]";
     fails_cleanly(
-        &base.replace(pi, "transition = [[0.9, 0.08, 0.03], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]"),
+        &base.patch(pi, "transition = [[0.9, 0.08, 0.03], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]"),
         &["modes.transition row 1 (left)", "sum to 1"],
     );
     fails_cleanly(
-        &base.replace(pi, "transition = [[1.1, -0.1, 0.0], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]"),
+        &base.patch(pi, "transition = [[1.1, -0.1, 0.0], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]"),
         &["modes.transition row 1 (left)", "≥ 0"],
     );
-    fails_cleanly(&base.replace(pi, "transition = [[0.9, 0.1], [0.1, 0.9]]"), &["modes.transition", "2"]);
-    fails_cleanly(&base.replace(pi, &format!("{pi}\ninitial = [0.5, 0.5]")), &["modes.initial", "expected 3"]);
-    fails_cleanly(&base.replace(pi, &format!("{pi}\ninitial = [0.5, 0.6, -0.1]")), &["modes.initial", "≥ 0"]);
-    fails_cleanly(&base.replace("C = [[0.0, 0.0]]", "C = [[0.0, 0.0, 1.0]]"), &["modes.sensor_failed.C"]);
+    fails_cleanly(&base.patch(pi, "transition = [[0.9, 0.1], [0.1, 0.9]]"), &["modes.transition", "2"]);
+    fails_cleanly(&base.patch(pi, &format!("{pi}\ninitial = [0.5, 0.5]")), &["modes.initial", "expected 3"]);
+    fails_cleanly(&base.patch(pi, &format!("{pi}\ninitial = [0.5, 0.6, -0.1]")), &["modes.initial", "≥ 0"]);
+    fails_cleanly(&base.patch("C = [[0.0, 0.0]]", "C = [[0.0, 0.0, 1.0]]"), &["modes.sensor_failed.C"]);
     // A periodic chain has no stationary distribution to start from.
     fails_cleanly(
-        &base.replace(pi, "transition = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]"),
+        &base.patch(pi, "transition = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]"),
         &["modes.initial", "stationary"],
     );
-    fails_cleanly(
-        &base.replace("pattern = \"prediction\"", "pattern = \"filtering\""),
-        &["mode_dependent", "predictor"],
-    );
+    fails_cleanly(&base.patch("pattern = \"prediction\"", "pattern = \"filtering\""), &["mode_dependent", "predictor"]);
 }
 
 #[test]
 fn bad_string_and_galerkin_parameters() {
-    let base = crate::common::text("galerkin_string").replace("truth_modes = 128", "truth_modes = 8");
+    let base = crate::common::text("galerkin_string").patch("truth_modes = 128", "truth_modes = 8");
     let sweep = "n = [2, 4, 8, 16], alpha = [1e-1, 1e-4, 1e-8, 1e-12]";
-    fails_cleanly(&base.replace(sweep, "n = [2], alpha = [-1e-3]"), &["filters.eigen_n2_alpha-0.001.alpha", "≥ 0"]);
-    fails_cleanly(&base.replace(sweep, "n = [0], alpha = [1e-3]"), &["filters.eigen_n0_alpha0.001.n", "at least 1"]);
-    fails_cleanly(
-        &base.replace("sensors = [0.142857,", "sensors = [1.2,"),
-        &["string.sensors[0]", "leaves the string"],
-    );
-    fails_cleanly(&base.replace("outputs = [0.1,", "outputs = [-0.1,"), &["string.outputs[0]", "outside"]);
-    fails_cleanly(&base.replace("dt = 0.0025", "dt = 0.0"), &["string.dt", "> 0"]);
+    fails_cleanly(&base.patch(sweep, "n = [2], alpha = [-1e-3]"), &["filters.eigen_n2_alpha-0.001.alpha", "≥ 0"]);
+    fails_cleanly(&base.patch(sweep, "n = [0], alpha = [1e-3]"), &["filters.eigen_n0_alpha0.001.n", "at least 1"]);
+    fails_cleanly(&base.patch("sensors = [0.142857,", "sensors = [1.2,"), &["string.sensors[0]", "leaves the string"]);
+    fails_cleanly(&base.patch("outputs = [0.1,", "outputs = [-0.1,"), &["string.outputs[0]", "outside"]);
+    fails_cleanly(&base.patch("dt = 0.0025", "dt = 0.0"), &["string.dt", "> 0"]);
 }

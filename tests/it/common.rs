@@ -2,6 +2,19 @@
 
 use filterbench::spec::{self, Experiment};
 
+/// `str::replace` for fixtures: panics when the pattern is absent, so a reformatted experiment file
+/// cannot silently turn a test into a test of another case.
+pub trait Patch {
+    fn patch(&self, from: &str, to: &str) -> String;
+}
+
+impl Patch for str {
+    fn patch(&self, from: &str, to: &str) -> String {
+        assert!(self.contains(from), "fixture pattern not found: {from:?}");
+        self.replace(from, to)
+    }
+}
+
 /// The text of the shipped experiment file `name`.
 pub fn text(name: &str) -> String {
     std::fs::read_to_string(format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"))).unwrap()
@@ -30,10 +43,10 @@ pub fn variant(name: &str, variant: &str, trials: usize) -> Experiment {
 /// `galerkin_string` made small: 32 truth modes, N = 100, n ∈ {2, 4}, α ∈ {1e-1, 1e-8}, 3000 trials.
 pub fn small_string() -> String {
     text("galerkin_string")
-        .replace("truth_modes = 128", "truth_modes = 32")
-        .replace("duration = 1.0", "duration = 0.25")
-        .replace("n = [2, 4, 8, 16], alpha = [1e-1, 1e-4, 1e-8, 1e-12]", "n = [2, 4], alpha = [1e-1, 1e-8]")
-        .replace("trials = 300", "trials = 3000")
+        .patch("truth_modes = 128", "truth_modes = 32")
+        .patch("duration = 1.0", "duration = 0.25")
+        .patch("n = [2, 4, 8, 16], alpha = [1e-1, 1e-4, 1e-8, 1e-12]", "n = [2, 4], alpha = [1e-1, 1e-8]")
+        .patch("trials = 300", "trials = 3000")
 }
 
 /// The shipped `kalman_baseline` experiment with `trials` trials.
@@ -101,7 +114,7 @@ shape = { kind = "mixture", weight = 0.1, ratio = 4.0 }
 "#;
 
 pub fn shapes(pattern: &str) -> Experiment {
-    spec::parse("shapes", "shapes.toml", &SHAPES_TOML.replace("PATTERN", pattern)).expect("test plant parses")
+    spec::parse("shapes", "shapes.toml", &SHAPES_TOML.patch("PATTERN", pattern)).expect("test plant parses")
 }
 
 /// A fresh folder under the system temp dir, removed on drop. (No dev-dependency for this: a

@@ -1,4 +1,5 @@
 //! Results are bit-identical for any number of threads.
+use crate::common::Patch;
 
 use filterbench::run;
 
@@ -19,8 +20,8 @@ fn identical_bits_with_dropouts_and_anisotropic_inputs() {
     // Mode sequences, and worst-case covariances from faer eigendecompositions large enough
     // (lw = 453) for faer to split its work by threads if it were allowed to.
     let text = crate::aniso_dropout::dropout_shapes_text("prediction")
-        .replace("horizon = 20", "horizon = 150")
-        .replace("anisotropy = 12.0", "anisotropy = 80.0");
+        .patch("horizon = 20", "horizon = 150")
+        .patch("anisotropy = 12.0", "anisotropy = 80.0");
     let mut exp = filterbench::spec::parse("dropout_shapes", "t.toml", &text).unwrap();
     exp.trials = 700;
     identical(&exp);

@@ -27,32 +27,19 @@ fn kalman_baseline_writes_the_output_contract() {
         assert!(p.is_file() && std::fs::metadata(&p).unwrap().len() > 0, "{f} written");
     }
     let summary = read(&out.join("summary.parquet"));
-    for c in [
-        "experiment",
-        "scenario",
-        "filter",
-        "family",
-        "params",
-        "n_trials",
-        "empirical_mean",
-        "ci_low",
-        "ci_high",
-        "exact",
-        "guaranteed",
-        "guarantee_kind",
-        "worst_case",
-        "violations",
-        "design_seconds",
-        "mc_seconds",
-    ] {
-        assert!(summary.column(c).is_ok(), "summary.parquet has column {c}");
-    }
     assert_eq!(summary.height(), 5 * 2);
+    assert_eq!(names(&summary), SUMMARY_COLUMNS, "summary.parquet's columns, in the documented order");
+    summary_values_are_sane(&summary, 500);
     let steps = read(&out.join("steps.parquet"));
-    for c in ["scenario", "filter", "step", "mse_mean", "mse_ci_low", "mse_ci_high", "exact_mse", "bound"] {
-        assert!(steps.column(c).is_ok(), "steps.parquet has column {c}");
-    }
+    assert_eq!(names(&steps), STEPS_COLUMNS, "steps.parquet's columns");
     assert_eq!(steps.height(), 5 * 2 * 51);
+    let (m, lo, hi) = (f64s(&steps, "mse_mean"), f64s(&steps, "mse_ci_low"), f64s(&steps, "mse_ci_high"));
+    for i in 0..steps.height() {
+        let (m, lo, hi) = (m[i].unwrap(), lo[i].unwrap(), hi[i].unwrap());
+        assert!(lo <= m && m <= hi && m >= 0.0, "steps row {i}: {lo} ≤ {m} ≤ {hi}");
+    }
+    assert!(f64s(&steps, "bound").iter().all(Option::is_none), "a Kalman filter guarantees no per-step bound");
+    assert!(f64s(&steps, "claimed").iter().all(Option::is_some), "every filter here claims its error");
     let gains = read(&out.join("gains.parquet"));
     for c in ["filter", "step", "mode", "matrix", "row", "col", "value"] {
         assert!(gains.column(c).is_ok(), "gains.parquet has column {c}");
@@ -63,6 +50,133 @@ fn kalman_baseline_writes_the_output_contract() {
     assert_eq!(manifest["threads"], 2);
     let rrd = std::fs::read(out.join("recording.rrd")).unwrap();
     assert!(rrd.starts_with(b"RRF2"), "an .rrd file starts with Rerun's magic bytes");
+}
+
+/// Every column of summary.parquet, in order: a new or renamed column must be documented here and
+/// in the README.
+const SUMMARY_COLUMNS: [&str; 43] = [
+    "experiment",
+    "variant",
+    "scenario",
+    "covariance",
+    "shape",
+    "disturbance",
+    "filter",
+    "family",
+    "params",
+    "n_trials",
+    "empirical_mean",
+    "std_error",
+    "ci_low",
+    "ci_high",
+    "exact",
+    "exact_terminal",
+    "guaranteed",
+    "guarantee_kind",
+    "claimed",
+    "consistency",
+    "nees_exact",
+    "nees_empirical",
+    "worst_case",
+    "worst_case_psd",
+    "violations",
+    "ratio_bound",
+    "max_ratio",
+    "input_power",
+    "input_anisotropy",
+    "gain_empirical",
+    "gain_ci_low",
+    "gain_ci_high",
+    "gain_exact",
+    "deterministic_error",
+    "gain_exact_noise",
+    "anisotropic_norm_sq",
+    "h2_norm_sq",
+    "hinf_norm_sq",
+    "guaranteed_gain",
+    "guarantee_anisotropy",
+    "guarantee_applies",
+    "design_seconds",
+    "mc_seconds",
+];
+
+const STEPS_COLUMNS: [&str; 15] = [
+    "experiment",
+    "variant",
+    "scenario",
+    "filter",
+    "step",
+    "mse_mean",
+    "mse_ci_low",
+    "mse_ci_high",
+    "exact_mse",
+    "bound",
+    "claimed",
+    "nees_exact",
+    "nees_mean",
+    "nees_ci_low",
+    "nees_ci_high",
+];
+
+fn names(df: &DataFrame) -> Vec<String> {
+    df.get_column_names().iter().map(|s| s.to_string()).collect()
+}
+
+fn f64s(df: &DataFrame, c: &str) -> Vec<Option<f64>> {
+    let s = df
+        .column(c)
+        .unwrap_or_else(|_| panic!("column {c}"))
+        .as_materialized_series()
+        .cast(&DataType::Float64)
+        .unwrap();
+    let ca = s.f64().unwrap();
+    (0..ca.len()).map(|i| ca.get(i)).collect()
+}
+
+/// kalman_baseline's summary, value by value: the interval around the mean, the trial count, the
+/// exact value present, and nulls exactly where the README says (no guarantee, no per-trial bound,
+/// no anisotropy level) and values where it promises them (the worst case over the sets).
+fn summary_values_are_sane(summary: &DataFrame, trials: u64) {
+    let (mean, lo, hi, se) = (
+        f64s(summary, "empirical_mean"),
+        f64s(summary, "ci_low"),
+        f64s(summary, "ci_high"),
+        f64s(summary, "std_error"),
+    );
+    let n = f64s(summary, "n_trials");
+    for i in 0..summary.height() {
+        let (m, l, h, s) = (mean[i].unwrap(), lo[i].unwrap(), hi[i].unwrap(), se[i].unwrap());
+        assert!(l < m && m < h && s > 0.0, "row {i}: {l} < {m} < {h}, se {s}");
+        assert!(
+            ((h - l) / (2.0 * 1.959_963_984_540_054) - s).abs() <= 1e-9 * s,
+            "row {i}: the 95 % interval is ±1.96 se"
+        );
+        assert_eq!(n[i], Some(trials as f64), "row {i}: n_trials");
+    }
+    for c in [
+        "exact",
+        "exact_terminal",
+        "claimed",
+        "consistency",
+        "nees_exact",
+        "nees_empirical",
+        "worst_case",
+        "input_power",
+    ] {
+        assert!(f64s(summary, c).iter().all(Option::is_some), "{c} is given in every row of kalman_baseline");
+    }
+    for c in ["guaranteed", "violations", "ratio_bound", "max_ratio", "anisotropic_norm_sq", "guaranteed_gain"] {
+        assert!(
+            f64s(summary, c).iter().all(Option::is_none),
+            "{c} is null for Kalman filters without anisotropy level"
+        );
+    }
+    let (exact, claimed, consistency) =
+        (f64s(summary, "exact"), f64s(summary, "claimed"), f64s(summary, "consistency"));
+    for i in 0..summary.height() {
+        let r = exact[i].unwrap() / claimed[i].unwrap();
+        assert!((consistency[i].unwrap() - r).abs() <= 1e-12 * r, "row {i}: consistency = exact / claimed");
+    }
 }
 
 #[test]

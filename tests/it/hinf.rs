@@ -1,5 +1,6 @@
 //! The H∞-λ family (seed 002 §5): convergence to the Kalman predictor, the norm below λ, the worst
 //! input attaining the norm, the smallest λ, refusals, and the per-trial guarantee under Monte Carlo.
+use crate::common::Patch;
 
 use filterbench::families::hinf_lambda::{lambda_min, predictor, recursion};
 use filterbench::families::kalman::kalman;
@@ -81,14 +82,14 @@ fn monte_carlo_matches_the_exact_error_for_joint_inputs() {
 #[test]
 fn too_small_lambda_and_wrong_settings_are_refused() {
     let text = crate::common::text("hinf_tradeoff");
-    let bad = text.replace("lambda = 7.5", "lambda = 1.0");
+    let bad = text.patch("lambda = 7.5", "lambda = 1.0");
     let e = spec::parse("h", "h.toml", &bad).unwrap();
     let err = run::design_all(&e).err().expect("λ = 1 is infeasible").to_string();
     assert!(err.contains("hinf_7.5") && err.contains("too small") && err.contains("step 0"), "{err}");
-    let filt = text.replace("pattern = \"prediction\"", "pattern = \"filtering\"");
+    let filt = text.patch("pattern = \"prediction\"", "pattern = \"filtering\"");
     let err = run::design_all(&spec::parse("h", "h.toml", &filt).unwrap()).err().unwrap().to_string();
     assert!(err.contains("predictor"), "{err}");
-    let corr = text.replace("D = [[0.0, 0.0, 0.0, 0.5]]", "D = [[0.3, 0.0, 0.0, 0.5]]");
+    let corr = text.patch("D = [[0.0, 0.0, 0.0, 0.5]]", "D = [[0.3, 0.0, 0.0, 0.5]]");
     let err = run::design_all(&spec::parse("h", "h.toml", &corr).unwrap()).err().unwrap().to_string();
     assert!(err.contains("noise split"), "{err}");
 }

@@ -1,4 +1,5 @@
 //! Seed 001: Markov-jump plants and the mode-dependent, steady-state and common-gain predictors.
+use crate::common::Patch;
 
 use filterbench::families::markov_jump;
 use filterbench::linalg::Mat;
@@ -110,7 +111,7 @@ fn exact_per_mode_moments_agree_with_monte_carlo() {
 
 #[test]
 fn one_mode_is_the_kalman_predictor() {
-    let text = crate::common::SHAPES_TOML.replace("PATTERN", "prediction")
+    let text = crate::common::SHAPES_TOML.patch("PATTERN", "prediction")
         + "\n[modes]\ntransition = [[1.0]]\n[[modes.mode]]\nname = \"only\"\n";
     let exp = spec::parse("one_mode", "one_mode.toml", &text).unwrap();
     let (mj, predicted) = markov_jump::finite(&exp.plant, &exp.nominal);
@@ -151,7 +152,7 @@ fn mode_dependent_beats_common_gain_beats_mode_averaged_kalman() {
 
 #[test]
 fn steady_gains_need_an_ergodic_chain() {
-    let text = crate::common::text("markov_jump").replace(
+    let text = crate::common::text("markov_jump").patch(
         "transition = [[0.9, 0.08, 0.02], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]",
         "transition = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\ninitial = [0.5, 0.3, 0.2]",
     );

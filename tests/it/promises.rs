@@ -1,6 +1,7 @@
 //! What the columns promise (issue 14 §3): `guaranteed` only where a bound holds in the scenario,
 //! the filter's own belief as `claimed` with its consistency exact / claimed, and a console table
 //! that fits 80 columns and says "exact" instead of dividing by a zero standard error.
+use crate::common::Patch;
 
 use filterbench::{report, run};
 
@@ -74,7 +75,7 @@ fn tables_carry_claimed_and_consistency() {
 #[test]
 fn console_fits_80_columns_and_says_exact_for_deterministic_inputs() {
     let text =
-        crate::common::text("hinf_tradeoff").replace("\"kalman_predictor\"", "\"kalman_predictor_with_a_long_name\"");
+        crate::common::text("hinf_tradeoff").patch("\"kalman_predictor\"", "\"kalman_predictor_with_a_long_name\"");
     let exp = filterbench::spec::parse("hinf_tradeoff", "h.toml", &text).unwrap();
     let exp = filterbench::spec::Experiment { trials: 50, ..exp };
     let out = run::run(&exp, false).unwrap();
