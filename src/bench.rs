@@ -24,6 +24,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
         seed: exp.seed,
         index: 0,
         ratios: ratios.as_ref(),
+        forms: &[],
     };
     let trials = exp.trials as u64;
     let steps = exp.plant.steps() as f64;
@@ -52,7 +53,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let mut sink = 0.0;
     let t = Instant::now();
     for i in 0..trials {
-        montecarlo::run_trial(&sc, &mut ws, i, |_, _, z, zh| sink += z[0] - zh[0]);
+        montecarlo::run_trial(&sc, &mut ws, i, |_, _, _, _, e| sink += e[0]);
     }
     let one = t.elapsed().as_secs_f64();
     let mut draw = sampler.workspace();

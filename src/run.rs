@@ -113,7 +113,11 @@ pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCa
     }
     let mut wc = sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None });
     wc.disturbance = dist.map(|(_, wm)| wm);
-    wc.total = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref()).total;
+    let at = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref());
+    if let Some(cause) = at.unresolved() {
+        return Err(Error::invalid("exact error at the maximizer", cause));
+    }
+    wc.total = at.total;
     Ok(Some(wc))
 }
 
@@ -255,11 +259,10 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             seed: exp.seed,
             index: i,
             ratios: ratios.as_ref(),
+            forms: &[],
         };
-        let t = Instant::now();
-        let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
-        let mc_seconds = t.elapsed().as_secs_f64();
-        let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
+        // Exact first: a filter whose error double precision cannot resolve is refused before its
+        // Monte Carlo runs, and one resolved only in error coordinates is simulated in them too.
         let exact = match &joint {
             None => reals.iter().map(|r| Ok(exact::error_with_mean(&exp.plant, r, &cov, w_mean.as_ref()))).collect(),
             Some(j) => {
@@ -267,6 +270,19 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
                 reals.iter().map(|r| exact::error_joint(&exp.plant, r, &mean, &jcov)).collect::<Result<Vec<_>>>()
             }
         }?;
+        let exact = exact.into_iter().zip(&exp.filters).map(|(e, f)| e.trusted(&f.name)).collect::<Result<Vec<_>>>()?;
+        let forms: Vec<Option<exact::ErrorForm>> = exact
+            .iter()
+            .zip(&reals)
+            .map(|(e, r)| {
+                (e.coordinates == exact::Coordinates::Error).then(|| exact::error_form(&exp.plant, r).ok())?
+            })
+            .collect();
+        let sc = montecarlo::Scenario { forms: &forms, ..sc };
+        let t = Instant::now();
+        let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
+        let mc_seconds = t.elapsed().as_secs_f64();
+        let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
         let covariance_label = match &s.input {
             InputChoice::Coloured { anisotropy } => format!("coloured(a={anisotropy})"),
             InputChoice::AnisotropicWorstFor { filter, anisotropy } => {

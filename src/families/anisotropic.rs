@@ -151,7 +151,7 @@ pub fn realization(plant: &Plant, syn: &Synthesis) -> Realization {
             gf: Mat::identity(plant.nx(), plant.nx()),
         })
         .collect();
-    Realization::new(plant.x0_mean.clone(), steps)
+    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(plant.nx(), plant.nx()))
 }
 
 /// Solves the LMIs (4.42)–(4.43) with the terminal conditions and the convex determinant

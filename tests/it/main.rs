@@ -17,3 +17,4 @@ mod kalman;
 mod markov_jump;
 mod minimax;
 mod sdp;
+mod unstable;
