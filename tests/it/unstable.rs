@@ -157,6 +157,13 @@ fn relative(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// Asserts exact = Riccati to 1e-8 relative; returns the relative difference.
+fn within_1e8(exact: f64, riccati: f64, what: &str) -> f64 {
+    let rel = relative(exact, riccati);
+    assert!(rel <= 1e-8, "{what}: exact {exact} vs Riccati {riccati} ({rel:.2e} relative)");
+    rel
+}
+
 #[test]
 fn seed000_plant_with_a_1_5_matches_joseph_riccati_and_monte_carlo() {
     let mut exp = common::baseline(4000);
@@ -214,14 +221,12 @@ fn random_unstable_plants_without_dropouts() {
         let exp = experiment(&a, &c, horizon, pattern, None, filters);
         let real = &run::design_all(&exp).expect("designs")[0].design.realization;
         let reference = joseph_kalman(&exp);
-        let ours = exact::error(&exp.plant, real, &exp.nominal);
-        let rel = relative(ours.total, reference);
-        assert!(
-            rel <= 1e-8,
-            "case {case}: n = {n}, ρ(A) = {rho:.3}, N = {horizon}, {pattern}: exact {} vs Riccati {reference}",
-            ours.total
-        );
-        worst = worst.max(rel);
+        let ours = exact::error(&exp.plant, real, &exp.nominal).total;
+        worst = worst.max(within_1e8(
+            ours,
+            reference,
+            &format!("case {case}: n = {n}, ρ(A) = {rho:.3}, N = {horizon}, {pattern}"),
+        ));
         cases += 1;
         // Monte Carlo on a third of them (each costs a full run).
         if case % 3 == 0 {
@@ -250,14 +255,9 @@ fn random_unstable_plants_with_dropouts_resolved_or_refused() {
         let exp = experiment(&a, &c, horizon, "prediction", Some(arrival), tracking);
         let designed = run::design_all(&exp).expect("designs");
         let reference = joseph_dropout_predictor(&exp);
-        let ours = exact::error(&exp.plant, &designed[0].design.realization, &exp.nominal);
-        let rel = relative(ours.total, reference);
-        assert!(
-            rel <= 1e-8,
-            "case {case}: n = {n}, ρ(A) = {rho:.3}, N = {horizon}, p = {arrival:.3}: exact {} vs Riccati {reference}",
-            ours.total
-        );
-        worst = worst.max(rel);
+        let ours = exact::error(&exp.plant, &designed[0].design.realization, &exp.nominal).total;
+        let what = format!("case {case}: n = {n}, ρ(A) = {rho:.3}, N = {horizon}, p = {arrival:.3}");
+        worst = worst.max(within_1e8(ours, reference, &what));
         // Monte Carlo where its 4σ test is valid: e grows by A over each run of lost measurements,
         // so E|e|⁴ (the variance of the squared error the standard error estimates) is finite only
         // for (1 − p) ρ(A)⁴ < 1; with a margin, (1 − p) ρ⁴ < 0.25. Beyond it the squared error is so
