@@ -374,7 +374,7 @@ fn propagate(plant: &Plant, start: &Start, input: &Input, system: &dyn Fn(usize)
     let mut z: Vec<Option<Mat>> = probs[0].iter().map(|p| start.z.as_ref().map(|z| z * *p)).collect();
     let mut per_step = Vec::with_capacity(plant.steps());
     let mut per_mode = vec![0.0; q];
-    let mut resolution = Resolution { step: 0, digits_lost: 0.0 };
+    let mut magnitudes = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         let augs = system(k);
         // The moments of w[k]: mean μ and raw second moment R (zero when w[k] is not drawn).
@@ -439,10 +439,7 @@ fn propagate(plant: &Plant, start: &Start, input: &Input, system: &dyn Fn(usize)
             next.push((v + pj * c, yn, zn));
         }
         per_step.push(mse);
-        let lost = digits_lost(mse, magnitude);
-        if lost > resolution.digits_lost {
-            resolution = Resolution { step: k, digits_lost: lost };
-        }
+        magnitudes.push(magnitude);
         if k == plant.horizon {
             break;
         }
@@ -458,8 +455,29 @@ fn propagate(plant: &Plant, start: &Start, input: &Input, system: &dyn Fn(usize)
         }
     }
     let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+    let resolution = resolution(&per_step, &magnitudes);
     ExactError { per_step, total, per_mode, resolution, coordinates: Coordinates::Plant, untracked: None }
 }
+
+/// The worst step's digits lost. Each step is measured against its own value or a millionth of
+/// the largest step's, whichever is larger: a step whose error is zero up to rounding (a
+/// deterministic input the filter matches exactly) need not be resolved beyond the run's scale.
+fn resolution(per_step: &[f64], magnitudes: &[f64]) -> Resolution {
+    let scale = per_step.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    let mut worst = Resolution { step: 0, digits_lost: 0.0 };
+    for (k, (v, mag)) in per_step.iter().zip(magnitudes).enumerate() {
+        // A value that is not finite stays so (f64::max would drop a NaN).
+        let against = if v.is_finite() { v.abs().max(RESOLVE_FRACTION * scale) } else { *v };
+        let lost = digits_lost(against, *mag);
+        if lost > worst.digits_lost {
+            worst = Resolution { step: k, digits_lost: lost };
+        }
+    }
+    worst
+}
+
+/// See [`resolution`].
+const RESOLVE_FRACTION: f64 = 1e-6;
 
 /// log10(magnitude of the terms / |result|), 0 when there is nothing to lose, capped at 17 (all
 /// digits) when the result is zero but its terms are not; infinite when anything is not finite.
