@@ -112,7 +112,9 @@ impl ExactError {
         if digits_lost <= MAX_DIGITS_LOST {
             return None;
         }
-        let lost = if digits_lost.is_finite() {
+        let lost = if digits_lost >= 16.0 && digits_lost.is_finite() {
+            "all ~16 digits lost to cancellation".to_string()
+        } else if digits_lost.is_finite() {
             format!("{digits_lost:.1} of ~16 digits lost to cancellation")
         } else {
             "the moments overflowed".to_string()
