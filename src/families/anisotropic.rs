@@ -168,9 +168,11 @@ pub fn synthesize(plant: &Plant, level: Level) -> std::result::Result<Synthesis,
 fn failure_message(f: &Failure) -> String {
     if f.infeasible {
         format!(
-            "the anisotropic LMIs (4.42)–(4.43) are infeasible at this level ({f}): clarabel certifies that no \
-             filter of this form meets them; check the plant (a dropout probability too low for an unstable A \
-             leaves every predictor's error unbounded)"
+            "clarabel reports the anisotropic LMIs (4.42)–(4.43) infeasible ({f}); on a finite horizon they have \
+             a solution in exact arithmetic, so the certificate says the bound needs matrices beyond the solver's \
+             range: the predictor (4.31) does not see the dropouts, so on an unstable A its error grows like the \
+             state over the horizon; shorten the horizon, raise the arrival probability or use a filter that sees \
+             the dropouts"
         )
     } else {
         format!(
