@@ -26,6 +26,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
         index: 0,
         ratios: ratios.as_ref(),
         nees: &nees,
+        forms: &[],
     };
     let trials = exp.trials as u64;
     let steps = exp.plant.steps() as f64;
@@ -54,7 +55,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let mut sink = 0.0;
     let t = Instant::now();
     for i in 0..trials {
-        montecarlo::run_trial(&sc, &mut ws, i, |_, _, z, zh| sink += z[0] - zh[0]);
+        montecarlo::run_trial(&sc, &mut ws, i, |_, _, _, _, e| sink += e[0]);
     }
     let one = t.elapsed().as_secs_f64();
     let mut draw = sampler.workspace();

@@ -25,13 +25,15 @@ use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
 use crate::uncertainty::CovSet;
 
-/// The augmented matrices F, E, H, G of step k in one mode (module docs), and c's Gf.
+/// The augmented matrices F, E, H, G of step k in one mode (module docs), and the map from the
+/// known input r[k] to the state's shift c = R r (no columns when the plant has no known input).
+#[derive(Clone, Debug)]
 pub(crate) struct Augmented {
     pub f: Mat,
     pub e: Mat,
     pub h: Mat,
     pub g: Mat,
-    pub gf: Mat,
+    pub r_map: Mat,
 }
 
 pub(crate) fn augmented(plant: &Plant, real: &Realization, k: usize, mode: usize) -> Augmented {
@@ -50,7 +52,12 @@ pub(crate) fn augmented(plant: &Plant, real: &Realization, k: usize, mode: usize
     h.view_mut((0, 0), (plant.nz(), n)).copy_from(&(&plant.cz - &gk.df * c));
     h.view_mut((0, n), (plant.nz(), ns)).copy_from(&(-&gk.cf));
     let g = &plant.dz - &gk.df * d;
-    Augmented { f, e, h, g, gf: gk.gf.clone() }
+    let mut r_map = Mat::zeros(n + ns, if plant.known_input.is_empty() { 0 } else { n });
+    if r_map.ncols() == n {
+        r_map.view_mut((0, 0), (n, n)).fill_with_identity();
+        r_map.view_mut((n, 0), (ns, n)).copy_from(&gk.gf);
+    }
+    Augmented { f, e, h, g, r_map }
 }
 
 /// The augmented matrices of every mode at step k.
@@ -66,6 +73,70 @@ pub struct ExactError {
     pub total: f64,
     /// Σ_k E[|e[k]|² 1{θ[k] = j}] over the counted steps, per mode j (one entry without modes).
     pub per_mode: Vec<f64>,
+    /// How many digits the worst step lost to cancellation, and which step.
+    pub resolution: Resolution,
+    /// The coordinates the moments were carried in.
+    pub coordinates: Coordinates,
+    /// Why error coordinates could not be used, when they were needed and could not be.
+    pub untracked: Option<String>,
+}
+
+/// The coordinates of the moment recursion: the plant's ξ = (x, s) (the reference), or the error
+/// coordinates ε = s − M x alone, where M is what the filter's state tracks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coordinates {
+    Plant,
+    Error,
+}
+
+/// Cancellation in one step's error: E|e|² is a sum of terms of magnitude
+/// Σ |H| |Y| |H|ᵀ + 2|H| |Z| |G|ᵀ + |G| |R| |G|ᵀ (absolute values entrywise, traces taken), each
+/// accurate to about one rounding unit of its own size; the ratio of that magnitude to the result is
+/// the factor by which rounding is amplified, and its log10 the decimal digits lost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resolution {
+    pub step: usize,
+    pub digits_lost: f64,
+}
+
+/// A double carries about 16 significant digits. A result that lost more than this many (at least
+/// ~8 left after the rounding a long recursion accumulates) is not reported: error coordinates are
+/// tried, and if they cannot be used the number is refused.
+pub const MAX_DIGITS_LOST: f64 = 6.0;
+
+impl ExactError {
+    /// Why the value cannot be trusted (the step and the digits lost when double precision does
+    /// not resolve it), or None.
+    pub fn unresolved(&self) -> Option<String> {
+        let Resolution { step, digits_lost } = self.resolution;
+        if digits_lost <= MAX_DIGITS_LOST {
+            return None;
+        }
+        let lost = if digits_lost >= 16.0 && digits_lost.is_finite() {
+            "all ~16 digits lost to cancellation".to_string()
+        } else if digits_lost.is_finite() {
+            format!("{digits_lost:.1} of ~16 digits lost to cancellation")
+        } else {
+            "the moments overflowed".to_string()
+        };
+        let why = match (&self.untracked, self.coordinates) {
+            (Some(why), _) => format!("; error coordinates s − M x do not apply: {why}"),
+            (None, Coordinates::Error) => " even in error coordinates s − M x".to_string(),
+            (None, Coordinates::Plant) => String::new(),
+        };
+        Some(format!(
+            "double precision cannot resolve its exact error at step {step} ({lost}{why}); the plant's state grows \
+             much faster than the error: shorten the horizon or use a filter whose state tracks the plant's in every mode"
+        ))
+    }
+
+    /// The value, or an error naming the filter, the step and the digits lost.
+    pub fn trusted(self, filter: &str) -> Result<Self> {
+        match self.unresolved() {
+            None => Ok(self),
+            Some(cause) => Err(Error::design(filter, cause)),
+        }
+    }
 }
 
 /// The exact error of `real` on `plant` when x0 and w have the covariances `cov` (any distribution).
@@ -88,7 +159,111 @@ pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_m
             return propagate_modal(plant, real, cov.x0(), &w, &bwb);
         }
     }
-    propagate(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &Input::White { w: &w, mean: w_mean })
+    let input = Input::White { w: &w, mean: w_mean };
+    resolved(plant, real, &start(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &input), &input)
+}
+
+/// The plant-coordinate recursion, kept as the reference wherever it resolves the error; where it
+/// loses more than [`MAX_DIGITS_LOST`] digits, the same moments in error coordinates (when the
+/// realization's declared M passes [`error_form`]'s check).
+fn resolved(plant: &Plant, real: &Realization, start: &Start, input: &Input) -> ExactError {
+    let reference = propagate(plant, start, input, &|k| modal(plant, real, k));
+    if reference.resolution.digits_lost <= MAX_DIGITS_LOST {
+        return reference;
+    }
+    match error_form(plant, real) {
+        Ok(form) => {
+            let mut out = propagate(plant, &start.transformed(&form.to_error), input, &|k| form.steps[k].clone());
+            out.coordinates = Coordinates::Error;
+            out
+        }
+        Err(why) => ExactError { untracked: Some(why), ..reference },
+    }
+}
+
+/// [`error`] computed in error coordinates whatever the plant-coordinate recursion would give, or
+/// why they do not apply (for comparing the two where both are accurate).
+pub fn error_in_error_coordinates(
+    plant: &Plant,
+    real: &Realization,
+    cov: &Covariances,
+) -> std::result::Result<ExactError, String> {
+    let form = error_form(plant, real)?;
+    let w = cov.w();
+    let input = Input::White { w: &w, mean: None };
+    let start = start(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &input).transformed(&form.to_error);
+    let mut out = propagate(plant, &start, &input, &|k| form.steps[k].clone());
+    out.coordinates = Coordinates::Error;
+    Ok(out)
+}
+
+/// A realization in error coordinates ε = s − M x: with T_j = Af M + Bf C_j − M A_j = 0 and
+/// Cz − Df C_j − Cf M = 0 at every step and mode (checked, not assumed),
+///
+///     ε[k+1] = Af ε + (Bf D_j − M B_j) w + (Gf − M) r,   e[k] = −Cf ε + (Dz − Df D_j) w,
+///
+/// so x drops out and neither the exact moments nor a simulated trial ever difference it.
+#[derive(Clone, Debug)]
+pub struct ErrorForm {
+    /// M, what the state tracks.
+    pub m: Mat,
+    /// [−M, I]: ε = to_error · (x, s).
+    pub to_error: Mat,
+    /// M = I exactly (then x − s = −ε, with no x to difference).
+    pub identity: bool,
+    /// The ε system of each step, per mode: F = Af, E, H = −Cf, G, R = Gf − M.
+    pub(crate) steps: Vec<Vec<Augmented>>,
+}
+
+/// A residual counts as zero below this fraction of the products it is made of: the rounding of
+/// gains computed from the identity is ~1e-16 of them, a filter that does not satisfy it is ≳ 1e-3.
+const IDENTITY_TOLERANCE: f64 = 1e-9;
+
+/// The realization in error coordinates, or why not: no M declared, M of the wrong size, or the
+/// step and mode where Af M + Bf C − M A (or Cz − Df C − Cf M) is not zero, with its size. A
+/// residual within rounding of its terms is set to exactly zero: these are the coordinates of the
+/// filter its family designed, whose gains satisfy the identity by construction.
+pub fn error_form(plant: &Plant, real: &Realization) -> std::result::Result<ErrorForm, String> {
+    let (n, ns) = (plant.nx(), real.ns());
+    let m = real.tracks.as_ref().ok_or("the filter declares no M (what its state tracks)")?;
+    if m.shape() != (ns, n) {
+        return Err(format!("its M is {}×{}, not {ns}×{n}", m.nrows(), m.ncols()));
+    }
+    let fro = |a: &Mat| a.norm();
+    let mut steps = Vec::with_capacity(plant.steps());
+    for k in 0..plant.steps() {
+        let mut here = Vec::with_capacity(plant.n_modes());
+        for j in 0..plant.n_modes() {
+            let g = real.gains(k, j);
+            let (a, b) = (plant.a_of(j), plant.b_of(j));
+            let (c, d) = (plant.c_of(k, j), plant.d_of(k, j));
+            let hx = &plant.cz - &g.df * c - &g.cf * m;
+            let h_scale = fro(&plant.cz) + fro(&g.df) * fro(c) + fro(&g.cf) * fro(m);
+            let mut residuals = vec![("Cz − Df C − Cf M", hx.norm(), h_scale)];
+            if k < plant.horizon {
+                let t = &g.af * m + &g.bf * c - m * a;
+                residuals.push((
+                    "Af M + Bf C − M A",
+                    t.norm(),
+                    fro(&g.af) * fro(m) + fro(&g.bf) * fro(c) + fro(m) * fro(a),
+                ));
+            }
+            for (what, r, scale) in residuals {
+                if r > IDENTITY_TOLERANCE * scale {
+                    let mode = plant.modes.as_ref().map_or(String::new(), |md| format!(", mode {}", md.names[j]));
+                    return Err(format!("{what} = {r:.2e} (relative {:.1e}) at step {k}{mode}", r / scale.max(1e-300)));
+                }
+            }
+            let r_map = if plant.known_input.is_empty() { Mat::zeros(ns, 0) } else { &g.gf - m };
+            here.push(Augmented { f: g.af.clone(), e: &g.bf * d - m * b, h: -&g.cf, g: &plant.dz - &g.df * d, r_map });
+        }
+        steps.push(here);
+    }
+    let mut to_error = Mat::zeros(ns, n + ns);
+    to_error.view_mut((0, 0), (ns, n)).copy_from(&(-m));
+    to_error.view_mut((0, n), (ns, ns)).fill_with_identity();
+    let identity = ns == n && *m == Mat::identity(n, n);
+    Ok(ErrorForm { m: m.clone(), to_error, identity, steps })
 }
 
 /// The summed error with no noise at all: what x0's mean and the known input alone cost (with
@@ -134,7 +309,8 @@ pub fn error_joint(plant: &Plant, real: &Realization, mean: &Vector, cov: &Mat) 
     let raw = cov + mean * mean.transpose();
     let x0_cov = cov.view((0, 0), (n, n)).into_owned();
     let x0_shift = mean.rows(0, n).into_owned();
-    Ok(propagate(plant, real, &x0_shift, &x0_cov, &Input::Joint { mean, raw: &raw }))
+    let input = Input::Joint { mean, raw: &raw };
+    Ok(resolved(plant, real, &start(plant, real, &x0_shift, &x0_cov, &input), &input))
 }
 
 /// What drives the recursion besides x0: white noise (covariance and optional mean per step) or a
@@ -144,13 +320,25 @@ enum Input<'a> {
     Joint { mean: &'a Vector, raw: &'a Mat },
 }
 
-/// The per-mode raw-moment recursion of the module docs; x0 = E x0 + x0_shift + δ with Cov δ = x0_cov.
-fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat, input: &Input) -> ExactError {
-    let (n, ns, nw) = (plant.nx(), real.ns(), plant.nw());
+/// The moments at k = 0 before the modes are mixed in: mean m, raw second moment Y and, for a joint
+/// input, the cross moment Z = E[ξ Jᵀ].
+struct Start {
+    m: Vector,
+    y: Mat,
+    z: Option<Mat>,
+}
+
+impl Start {
+    /// The moments of P ξ.
+    fn transformed(&self, p: &Mat) -> Start {
+        Start { m: p * &self.m, y: symmetrize(&(p * &self.y * p.transpose())), z: self.z.as_ref().map(|z| p * z) }
+    }
+}
+
+/// ξ[0] = (x0, s0) in plant coordinates, with x0 = E x0 + x0_shift + δ, Cov δ = x0_cov.
+fn start(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat, input: &Input) -> Start {
+    let (n, ns) = (plant.nx(), real.ns());
     let nxi = n + ns;
-    let probs = plant.mode_probabilities();
-    let q = plant.n_modes();
-    let transition = plant.modes.as_ref().map(|m| m.transition.clone()).unwrap_or_else(|| Mat::identity(1, 1));
     let mut m0 = Vector::zeros(nxi);
     m0.rows_mut(0, n).copy_from(&(&plant.x0_mean + x0_shift));
     m0.rows_mut(n, ns).copy_from(&real.s0);
@@ -167,13 +355,30 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
             Some(z)
         }
     };
-    let mut m: Vec<Vector> = probs[0].iter().map(|p| &m0 * *p).collect();
-    let mut y: Vec<Mat> = probs[0].iter().map(|p| &y0 * *p).collect();
-    let mut z: Vec<Option<Mat>> = probs[0].iter().map(|p| z0.as_ref().map(|z| z * *p)).collect();
+    Start { m: m0, y: y0, z: z0 }
+}
+
+/// Σ_ab |A|_ab |B|_ab: the magnitude of ⟨A, B⟩'s terms.
+fn abs_dot(a: &Mat, b: &Mat) -> f64 {
+    a.iter().zip(b.iter()).map(|(x, y)| (x * y).abs()).sum()
+}
+
+/// The per-mode raw-moment recursion of the module docs, in whatever coordinates `system` gives
+/// the matrices of (the state dimension is the start's).
+fn propagate(plant: &Plant, start: &Start, input: &Input, system: &dyn Fn(usize) -> Vec<Augmented>) -> ExactError {
+    let nw = plant.nw();
+    let nxi = start.m.len();
+    let probs = plant.mode_probabilities();
+    let q = plant.n_modes();
+    let transition = plant.modes.as_ref().map(|m| m.transition.clone()).unwrap_or_else(|| Mat::identity(1, 1));
+    let mut m: Vec<Vector> = probs[0].iter().map(|p| &start.m * *p).collect();
+    let mut y: Vec<Mat> = probs[0].iter().map(|p| &start.y * *p).collect();
+    let mut z: Vec<Option<Mat>> = probs[0].iter().map(|p| start.z.as_ref().map(|z| z * *p)).collect();
     let mut per_step = Vec::with_capacity(plant.steps());
     let mut per_mode = vec![0.0; q];
+    let mut magnitudes = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
-        let augs = modal(plant, real, k);
+        let augs = system(k);
         // The moments of w[k]: mean μ and raw second moment R (zero when w[k] is not drawn).
         let (mu, rkk, off) = match input {
             Input::White { w, mean } => {
@@ -188,6 +393,7 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
         };
         let r = plant.r_at(k);
         let mut mse = 0.0;
+        let mut magnitude = 0.0;
         let mut next: Vec<(Vector, Mat, Option<Mat>)> = Vec::with_capacity(q);
         let counted = plant.counts(k);
         for (j, a) in augs.iter().enumerate() {
@@ -201,6 +407,10 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
             let ej = (&a.h * &y[j] * a.h.transpose()).trace()
                 + 2.0 * (&a.h * &zk * a.g.transpose()).trace()
                 + pj * (&a.g * &rkk * a.g.transpose()).trace();
+            let (habs, gabs) = (a.h.abs(), a.g.abs());
+            magnitude += abs_dot(&(habs.transpose() * &habs), &y[j])
+                + 2.0 * abs_dot(&(habs.transpose() * &gabs), &zk)
+                + pj * abs_dot(&(gabs.transpose() * &gabs), &rkk);
             mse += ej;
             if counted {
                 per_mode[j] += ej;
@@ -208,11 +418,7 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
             if k == plant.horizon {
                 continue;
             }
-            let mut c = Vector::zeros(nxi);
-            if let Some(r) = r {
-                c.rows_mut(0, n).copy_from(r);
-                c.rows_mut(n, ns).copy_from(&(&a.gf * r));
-            }
+            let c = r.map_or_else(|| Vector::zeros(nxi), |r| &a.r_map * r);
             let v = &a.f * &m[j] + pj * (&a.e * &mu);
             let fze = &a.f * &zk * a.e.transpose();
             let yn = &a.f * &y[j] * a.f.transpose()
@@ -235,6 +441,7 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
             next.push((v + pj * c, yn, zn));
         }
         per_step.push(mse);
+        magnitudes.push(magnitude);
         if k == plant.horizon {
             break;
         }
@@ -250,7 +457,40 @@ fn propagate(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat,
         }
     }
     let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
-    ExactError { per_step, total, per_mode }
+    let resolution = resolution(&per_step, &magnitudes);
+    ExactError { per_step, total, per_mode, resolution, coordinates: Coordinates::Plant, untracked: None }
+}
+
+/// The worst step's digits lost. Each step is measured against its own value or a millionth of
+/// the largest step's, whichever is larger: a step whose error is zero up to rounding (a
+/// deterministic input the filter matches exactly) need not be resolved beyond the run's scale.
+fn resolution(per_step: &[f64], magnitudes: &[f64]) -> Resolution {
+    let scale = per_step.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    let mut worst = Resolution { step: 0, digits_lost: 0.0 };
+    for (k, (v, mag)) in per_step.iter().zip(magnitudes).enumerate() {
+        // A value that is not finite stays so (f64::max would drop a NaN).
+        let against = if v.is_finite() { v.abs().max(RESOLVE_FRACTION * scale) } else { *v };
+        let lost = digits_lost(against, *mag);
+        if lost > worst.digits_lost {
+            worst = Resolution { step: k, digits_lost: lost };
+        }
+    }
+    worst
+}
+
+/// See [`resolution`].
+const RESOLVE_FRACTION: f64 = 1e-6;
+
+/// log10(magnitude of the terms / |result|), 0 when there is nothing to lose, capped at 17 (all
+/// digits) when the result is zero but its terms are not; infinite when anything is not finite.
+fn digits_lost(result: f64, magnitude: f64) -> f64 {
+    if !(result.is_finite() && magnitude.is_finite()) {
+        return f64::INFINITY;
+    }
+    if magnitude <= 0.0 {
+        return 0.0;
+    }
+    (magnitude / result.abs().max(magnitude * 1e-17)).log10().max(0.0)
 }
 
 /// Below this many states the dense recursion costs nothing and the structure is not looked for.
@@ -324,7 +564,12 @@ fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w: &Mat, bwb
         sm = symmetrize(&s_next);
     }
     let total: f64 = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
-    ExactError { per_step, total, per_mode: vec![total] }
+    // A stable modal truth (the string) is the only use: only overflow is looked for.
+    let resolution = match per_step.iter().position(|v| !v.is_finite()) {
+        Some(step) => Resolution { step, digits_lost: f64::INFINITY },
+        None => Resolution { step: 0, digits_lost: 0.0 },
+    };
+    ExactError { per_step, total, per_mode: vec![total], resolution, coordinates: Coordinates::Plant, untracked: None }
 }
 
 /// Λ = E[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w[0..N]) to col(e[k], k counted), the
@@ -394,10 +639,33 @@ pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> 
     Ok(symmetrize(&lambda))
 }
 
-/// ∂J/∂K for every covariance block (J = summed exact error): J(K) = J(0) + Σ_i ⟨grad_i, K_i⟩.
+/// ∂J/∂K for every covariance block (J = summed exact error): J(K) = J(center) + Σ_i ⟨grad_i, K_i⟩.
 /// It does not depend on K, since J is affine in K.
+///
+/// The adjoint cancels like the forward moments on an unstable plant (F_jᵀ Λ F_j multiplies Λ's
+/// rounding by |A|² per step while the response of the error stays bounded), so when some A_θ has
+/// spectral radius above 1 and the realization passes [`error_form`]'s check, the pass runs in error
+/// coordinates: Λ^ε[k] = HᵀH + Afᵀ Λ^ε[k+1] Af on ε alone, x0 entering as ε[0] = s0 − M x0 (x0's
+/// gradient Mᵀ Λ^ε[0] M). Elsewhere the plant coordinates, as before.
 pub fn gradient(plant: &Plant, real: &Realization) -> Vec<Mat> {
     let n = plant.nx();
+    let unstable = || (0..plant.n_modes()).any(|j| spectral_radius(plant.a_of(j)) > 1.0 + 1e-12);
+    if let Some(form) = real.tracks.as_ref().and_then(|_| unstable().then(|| error_form(plant, real).ok())?) {
+        return adjoint_gradient(plant, &|k| form.steps[k].clone(), &(-&form.m));
+    }
+    let mut x0_map = Mat::zeros(n + real.ns(), n);
+    x0_map.view_mut((0, 0), (n, n)).fill_with_identity();
+    adjoint_gradient(plant, &|k| modal(plant, real, k), &x0_map)
+}
+
+/// The largest |eigenvalue| of a square matrix.
+fn spectral_radius(a: &Mat) -> f64 {
+    a.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max)
+}
+
+/// The backward adjoint pass of [`gradient`] on the matrices `system` gives, x0 entering the state
+/// as `x0_map` · x0.
+fn adjoint_gradient(plant: &Plant, system: &dyn Fn(usize) -> Vec<Augmented>, x0_map: &Mat) -> Vec<Mat> {
     let nw = plant.nw();
     let probs = plant.mode_probabilities();
     let q = plant.n_modes();
@@ -405,7 +673,7 @@ pub fn gradient(plant: &Plant, real: &Realization) -> Vec<Mat> {
     let mut lambda: Option<Vec<Mat>> = None;
     let mut gw = Mat::zeros(nw, nw);
     for k in (0..plant.steps()).rev() {
-        let augs = modal(plant, real, k);
+        let augs = system(k);
         let nxi = augs[0].f.nrows();
         let mut here = Vec::with_capacity(q);
         for (j, a) in augs.iter().enumerate() {
@@ -426,7 +694,9 @@ pub fn gradient(plant: &Plant, real: &Realization) -> Vec<Mat> {
         lambda = Some(here);
     }
     let lambda0 = lambda.expect("at least one step");
-    let lx = (0..q).fold(Mat::zeros(n, n), |acc, j| acc + probs[0][j] * lambda0[j].view((0, 0), (n, n)));
+    let lx = (0..q).fold(Mat::zeros(x0_map.ncols(), x0_map.ncols()), |acc, j| {
+        acc + probs[0][j] * (x0_map.transpose() * &lambda0[j] * x0_map)
+    });
     let mut out = vec![symmetrize(&lx)];
     let mut o = 0;
     for (_, d) in &plant.noise_blocks {

@@ -8,6 +8,7 @@
 
 use rayon::prelude::*;
 
+use crate::exact::ErrorForm;
 use crate::families::PerTrialBound;
 use crate::linalg::{Mat, Vector};
 use crate::linop::LinOp;
@@ -91,11 +92,17 @@ pub struct Scenario<'a> {
     pub ratios: Option<&'a RatioCheck<'a>>,
     /// Per filter, the NEES weights W[k] of a filter with a claimed covariance (empty: none).
     pub nees: &'a [Option<Vec<Option<Mat>>>],
+    /// Per filter, its error form when it is simulated in error coordinates ε = s − M x (the plant's
+    /// state is then never differenced); empty or None: the filter's own state s.
+    pub forms: &'a [Option<ErrorForm>],
 }
 
 impl Scenario<'_> {
     fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
         self.nees.get(f)?.as_deref()
+    }
+    fn form(&self, f: usize) -> Option<&ErrorForm> {
+        self.forms.get(f).and_then(Option::as_ref)
     }
 }
 
@@ -165,6 +172,8 @@ pub struct Workspace {
     y: Vector,
     z: Vector,
     zhat: Vector,
+    /// e = z − ẑ of the current filter and step.
+    err: Vector,
     s: Vec<Vector>,
     s_next: Vec<Vector>,
     e0: Vector,
@@ -185,6 +194,7 @@ impl Workspace {
             y: Vector::zeros(p.ny()),
             z: Vector::zeros(p.nz()),
             zhat: Vector::zeros(p.nz()),
+            err: Vector::zeros(p.nz()),
             s: sc.filters.iter().map(|r| r.s0.clone()).collect(),
             s_next: sc.filters.iter().map(|r| r.s0.clone()).collect(),
             e0: Vector::zeros(p.nx()),
@@ -197,15 +207,25 @@ impl Workspace {
 }
 
 /// Runs trial `trial`: draws its noise, simulates the plant, runs every filter on the same y, and
-/// calls `visit(k, f, z, ẑ)` for each step k and filter f.
+/// calls `visit(k, f, z, ẑ, e)` for each step k and filter f, e = z − ẑ. A filter with an error
+/// form carries ε = s − M x instead of s and gets e from ε and w directly (seed-independent
+/// identity of [`crate::exact::error_form`]); its ẑ is then z − e, for display only.
 #[inline]
-pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl FnMut(usize, usize, &Vector, &Vector)) {
+pub fn run_trial(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    trial: u64,
+    mut visit: impl FnMut(usize, usize, &Vector, &Vector, &Vector),
+) {
     let mut rng = trial_rng(sc.seed, sc.index, trial);
     sc.sampler.draw_into(&mut rng, &mut ws.draw);
     let p = sc.plant;
     ws.x.copy_from(&ws.draw.x0);
-    for (s, r) in ws.s.iter_mut().zip(sc.filters) {
+    for (f, (s, r)) in ws.s.iter_mut().zip(sc.filters).enumerate() {
         s.copy_from(&r.s0);
+        if let Some(form) = sc.form(f) {
+            s.gemv(-1.0, &form.m, &ws.x, 1.0);
+        }
     }
     for k in 0..p.steps() {
         let wk = ws.draw.w.column(k);
@@ -217,15 +237,36 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
         ops.ops[ops.dz].apply(1.0, &wk, 1.0, &mut ws.z);
         let r = p.r_at(k);
         for (f, real) in sc.filters.iter().enumerate() {
-            real.output(k, theta, &ws.s[f], &ws.y, &mut ws.zhat);
-            visit(k, f, &ws.z, &ws.zhat);
+            let form = sc.form(f).map(|form| &form.steps[k][theta]);
+            match form {
+                None => {
+                    real.output(k, theta, &ws.s[f], &ws.y, &mut ws.zhat);
+                    ws.err.copy_from(&ws.z);
+                    ws.err -= &ws.zhat;
+                }
+                Some(a) => {
+                    ws.err.gemv(1.0, &a.h, &ws.s[f], 0.0);
+                    ws.err.gemv(1.0, &a.g, &wk, 1.0);
+                    ws.zhat.copy_from(&ws.z);
+                    ws.zhat -= &ws.err;
+                }
+            }
+            visit(k, f, &ws.z, &ws.zhat, &ws.err);
             if let Some(ez) = ws.ez.get_mut(f) {
-                let mut col = ez.column_mut(k);
-                col.copy_from(&ws.z);
-                col -= &ws.zhat;
+                ez.column_mut(k).copy_from(&ws.err);
             }
             if k < p.horizon {
-                real.advance(k, theta, &ws.s[f], &ws.y, r, &mut ws.s_next[f]);
+                match form {
+                    None => real.advance(k, theta, &ws.s[f], &ws.y, r, &mut ws.s_next[f]),
+                    Some(a) => {
+                        let next = &mut ws.s_next[f];
+                        next.gemv(1.0, &a.f, &ws.s[f], 0.0);
+                        next.gemv(1.0, &a.e, &wk, 1.0);
+                        if let Some(r) = r {
+                            next.gemv(1.0, &a.r_map, r, 1.0);
+                        }
+                    }
+                }
                 std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
             }
         }
@@ -242,7 +283,7 @@ pub fn run_trial(sc: &Scenario, ws: &mut Workspace, trial: u64, mut visit: impl 
 
 /// Seed 002's per-trial promises for every filter that has one (the workspace still holds the
 /// trial's draws, its errors e_z[k] and the final states). Energies are prefix sums E_t.
-fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut [FilterStats]) {
+fn check_ratios(sc: &Scenario, rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut [FilterStats]) {
     ws.e0.copy_from(&ws.draw.x0);
     ws.e0 -= &plant.x0_mean;
     ws.x_next.gemv(1.0, &rc.x0_weight, &ws.e0, 0.0);
@@ -257,7 +298,15 @@ fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut 
             None => {}
             Some(PerTrialBound::Ratio { bound, terminal_weight }) => {
                 let sum: f64 = (0..plant.horizon).map(|k| ws.ez[f].column(k).norm_squared()).sum();
-                ws.e0.copy_from(&ws.x);
+                // e = x − s; in error coordinates x − s = (I − M) x − ε, = −ε for M = I.
+                match sc.form(f) {
+                    None => ws.e0.copy_from(&ws.x),
+                    Some(form) if form.identity => ws.e0.fill(0.0),
+                    Some(form) => {
+                        ws.e0.copy_from(&ws.x);
+                        ws.e0.gemv(-1.0, &form.m, &ws.x, 1.0);
+                    }
+                }
                 ws.e0 -= &ws.s[f];
                 ws.x_next.gemv(1.0, terminal_weight, &ws.e0, 0.0);
                 let ratio = (sum + ws.e0.dot(&ws.x_next)) / ws.energy[plant.horizon];
@@ -282,21 +331,20 @@ fn check_ratios(rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut 
     }
 }
 
-/// (z − ẑ)ᵀ W (z − ẑ), without forming z − ẑ.
-fn weighted_square(w: &Mat, z: &Vector, zhat: &Vector) -> f64 {
-    let n = z.len();
+/// eᵀ W e.
+fn weighted_square(w: &Mat, e: &Vector) -> f64 {
+    let n = e.len();
     let mut q = 0.0;
     for j in 0..n {
-        let ej = z[j] - zhat[j];
         for i in 0..n {
-            q += (z[i] - zhat[i]) * w[(i, j)] * ej;
+            q += e[i] * w[(i, j)] * e[j];
         }
     }
     q
 }
 
-fn squared_error(z: &Vector, zhat: &Vector) -> f64 {
-    z.iter().zip(zhat.iter()).map(|(a, b)| (a - b) * (a - b)).sum()
+fn squared_error(e: &Vector) -> f64 {
+    e.iter().map(|v| v * v).sum()
 }
 
 fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStats {
@@ -308,18 +356,18 @@ fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStat
     for t in first..last {
         totals.fill(0.0);
         let per_filter = &mut st.filters;
-        run_trial(sc, ws, t, |k, f, z, zhat| {
-            let e2 = squared_error(z, zhat);
+        run_trial(sc, ws, t, |k, f, _, _, e| {
+            let e2 = squared_error(e);
             per_filter[f].steps[k].push(e2);
             if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
-                per_filter[f].nees[k].push(weighted_square(w, z, zhat));
+                per_filter[f].nees[k].push(weighted_square(w, e));
             }
             if plant.counts(k) {
                 totals[f] += e2;
             }
         });
         if let Some(rc) = sc.ratios {
-            check_ratios(rc, ws, plant, &mut st.filters);
+            check_ratios(sc, rc, ws, plant, &mut st.filters);
         }
         for (acc, v) in st.filters.iter_mut().zip(&totals) {
             acc.total.push(*v);
@@ -382,7 +430,7 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
                 zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
                 modes: Vec::new(),
             };
-            run_trial(sc, &mut ws, t, |k, f, z, zhat| {
+            run_trial(sc, &mut ws, t, |k, f, z, zhat, _| {
                 if f == 0 {
                     tr.z.set_column(k, z);
                 }

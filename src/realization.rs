@@ -31,16 +31,26 @@ pub struct Realization {
     pub steps: Vec<Gains>,
     /// Mode-indexed gains [k][mode], replacing `steps` when not empty.
     pub by_mode: Vec<Vec<Gains>>,
+    /// M: what the filter's state tracks, s[k] ≈ M x[k] (the identity for a state estimator), if
+    /// the family declares it. The exact analysis and the Monte Carlo may then carry ε = s − M x
+    /// instead of s, but only at steps and modes where they have checked that the realization
+    /// keeps ε independent of x ([`crate::exact::error_form`]).
+    pub tracks: Option<Mat>,
 }
 
 impl Realization {
     pub fn new(s0: Vector, steps: Vec<Gains>) -> Self {
-        Realization { s0, steps, by_mode: Vec::new() }
+        Realization { s0, steps, by_mode: Vec::new(), tracks: None }
+    }
+    /// The same realization, declaring that its state estimates M x (see `tracks`).
+    pub fn tracking(mut self, m: Mat) -> Self {
+        self.tracks = Some(m);
+        self
     }
     /// A realization that uses the gains of the observed mode: `by_mode[k][θ]`.
     pub fn mode_indexed(s0: Vector, by_mode: Vec<Vec<Gains>>) -> Self {
         let steps = by_mode.iter().map(|g| g[0].clone()).collect();
-        Realization { s0, steps, by_mode }
+        Realization { s0, steps, by_mode, tracks: None }
     }
     /// The gains of step k in mode θ.
     #[inline]

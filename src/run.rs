@@ -121,7 +121,7 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let claimed = Claimed::of(&exp.plant, &design);
             let nees_weights = match (&claimed, &design.design_covariance) {
                 (Some(_), Some(cov)) => {
-                    let at_design = |p: &Plant, r: &Realization| Ok(exact::error(p, r, cov));
+                    let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
                     Some(crate::nees::weights(&crate::nees::error_moments(
                         &exp.plant,
                         &design.realization,
@@ -169,7 +169,11 @@ pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCa
     }
     let mut wc = sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None });
     wc.disturbance = dist.map(|(_, wm)| wm);
-    wc.total = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref()).total;
+    let at = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref());
+    if let Some(cause) = at.unresolved() {
+        return Err(Error::invalid("exact error at the maximizer", cause));
+    }
+    wc.total = at.total;
     Ok(Some(wc))
 }
 
@@ -347,22 +351,37 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             index: i,
             ratios: ratios.as_ref(),
             nees: &nees_weights,
+            forms: &[],
         };
-        let t = Instant::now();
-        let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
-        let mc_seconds = t.elapsed().as_secs_f64();
-        let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
+        // Exact first: a filter whose error double precision cannot resolve is refused before its
+        // Monte Carlo runs, and one resolved only in error coordinates is simulated in them too.
         let moments = joint.as_ref().map(|j| j.moments());
         let exact_of = |p: &Plant, r: &Realization| match &moments {
             None => Ok(exact::error_with_mean(p, r, &cov, w_mean.as_ref())),
             Some((mean, jcov)) => exact::error_joint(p, r, mean, jcov),
         };
         let exact = reals.iter().map(|r| exact_of(&exp.plant, r)).collect::<Result<Vec<_>>>()?;
+        let exact = exact.into_iter().zip(&exp.filters).map(|(e, f)| e.trusted(&f.name)).collect::<Result<Vec<_>>>()?;
+        let forms: Vec<Option<exact::ErrorForm>> = exact
+            .iter()
+            .zip(&reals)
+            .map(|(e, r)| {
+                (e.coordinates == exact::Coordinates::Error).then(|| exact::error_form(&exp.plant, r).ok())?
+            })
+            .collect();
+        let sc = montecarlo::Scenario { forms: &forms, ..sc };
+        let t = Instant::now();
+        let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
+        let mc_seconds = t.elapsed().as_secs_f64();
+        let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
+        // NEES from the same exact recursions, each projected output checked like the error itself.
         let nees_exact = filters
             .iter()
-            .map(|f| match &f.nees_weights {
+            .zip(&exp.filters)
+            .map(|(f, spec)| match &f.nees_weights {
                 Some(w) => {
-                    let m = crate::nees::error_moments(&exp.plant, &f.design.realization, &exact_of)?;
+                    let trusted = |p: &Plant, r: &Realization| exact_of(p, r)?.trusted(&spec.name);
+                    let m = crate::nees::error_moments(&exp.plant, &f.design.realization, &trusted)?;
                     Ok(Some(crate::nees::exact(w, &m)))
                 }
                 None => Ok(None),

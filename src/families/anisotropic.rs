@@ -38,7 +38,7 @@ use crate::linalg::Mat;
 use crate::plant::Plant;
 use crate::realization::{Gains, Realization};
 use crate::solve::affine::{AffMat, Vars};
-use crate::solve::conic::Conic;
+use crate::solve::conic::{Conic, Failure, Tuning};
 use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
 
 /// The design level: a total anisotropy a ≥ 0 (over lw = mw(N+1)), or `"inf"` for H∞.
@@ -75,6 +75,8 @@ pub struct Synthesis {
     pub cones: std::collections::BTreeMap<String, usize>,
     pub iterations: u32,
     pub solve_seconds: f64,
+    /// clarabel stopped at its reduced tolerances.
+    pub almost: bool,
 }
 
 pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
@@ -87,9 +89,11 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         LevelFile::Name(s) => return Err(Error::invalid(key, format!("must be a number ≥ 0 or \"inf\"; got \"{s}\""))),
     };
     check_setting(exp, &filter.name)?;
-    let syn = synthesize(&exp.plant, level).map_err(|e| Error::design(&filter.name, e))?;
+    let (syn, norm_sq, attempts) = synthesize_checked(&exp.plant, level).map_err(|e| Error::design(&filter.name, e))?;
     let realization = realization(&exp.plant, &syn);
     let mut diagnostics = serde_json::Map::new();
+    diagnostics.insert("exact_norm_sq".into(), norm_sq.into());
+    diagnostics.insert("clarabel_attempts".into(), attempts.into());
     diagnostics.insert("gamma_sq".into(), syn.gamma_sq.into());
     diagnostics.insert("eta".into(), syn.eta.into());
     diagnostics.insert(
@@ -128,8 +132,6 @@ fn check_setting(exp: &Experiment, name: &str) -> Result<()> {
         Some("the anisotropic design needs sum_from = 0, first_measurement = 0 and a constant C")
     } else if p.modes.is_some() && p.arrival.is_none() {
         Some("the anisotropic design covers measurement dropouts (plant.arrival), not general Markov modes")
-    } else if p.cz.rank(1e-12) < p.nx() {
-        Some("the change of variables needs Cz of full column rank (P2 ⪰ CzᵀCz ≻ 0 makes W, H recoverable)")
     } else {
         None
     };
@@ -151,12 +153,132 @@ pub fn realization(plant: &Plant, syn: &Synthesis) -> Realization {
             gf: Mat::identity(plant.nx(), plant.nx()),
         })
         .collect();
-    Realization::new(plant.x0_mean.clone(), steps)
+    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(plant.nx(), plant.nx()))
 }
 
 /// Solves the LMIs (4.42)–(4.43) with the terminal conditions and the convex determinant
-/// condition (module docs), minimizing γ² at `level`.
+/// condition (module docs), minimizing γ² at `level`, with clarabel's default settings. The error
+/// says whether clarabel certified infeasibility or failed numerically.
 pub fn synthesize(plant: &Plant, level: Level) -> std::result::Result<Synthesis, String> {
+    synthesize_tuned(plant, level, &Tuning::default()).map_err(|f| failure_message(&f))
+}
+
+/// What a failed synthesis tells the user: infeasibility and numerical failure are different
+/// problems with different remedies.
+fn failure_message(f: &Failure) -> String {
+    if f.infeasible {
+        format!(
+            "clarabel reports the anisotropic LMIs (4.42)–(4.43) infeasible ({f}); on a finite horizon they have \
+             a solution in exact arithmetic, so the certificate says the bound needs matrices beyond the solver's \
+             range: the predictor (4.31) does not see the dropouts, so on an unstable A its error grows like the \
+             state over the horizon; shorten the horizon, raise the arrival probability or use a filter that sees \
+             the dropouts"
+        )
+    } else {
+        format!(
+            "the anisotropic SDP (4.42)–(4.43) could not be solved accurately ({f}): a numerical failure, not \
+             infeasibility (the finite-horizon LMIs always have a solution for η large enough); rescale the \
+             plant's matrices towards unit size or change the horizon"
+        )
+    }
+}
+
+/// Designs at `level` and checks the design: its exact a-anisotropic norm (from Λ, not from the
+/// solver) must not exceed γ by more than 1e-6 relative. The first attempt uses clarabel's default
+/// settings (shipped designs are unchanged); after a numerical failure or a design that fails the
+/// check, retries with [`Tuning::robust`], then both settings in balanced state coordinates
+/// ([`synthesize_balanced`]). Returns the synthesis, its exact norm² and the attempt that passed.
+pub fn synthesize_checked(plant: &Plant, level: Level) -> std::result::Result<(Synthesis, f64, usize), String> {
+    let mut last = String::new();
+    let attempts =
+        [(Tuning::default(), false), (Tuning::robust(), false), (Tuning::default(), true), (Tuning::robust(), true)];
+    for (attempt, (tuning, balance)) in attempts.iter().enumerate() {
+        let solved =
+            if *balance { synthesize_balanced(plant, level, tuning) } else { synthesize_tuned(plant, level, tuning) };
+        let syn = match solved {
+            Ok(syn) => syn,
+            Err(f) if f.infeasible => return Err(failure_message(&f)),
+            Err(f) => {
+                last = failure_message(&f);
+                continue;
+            }
+        };
+        let real = realization(plant, &syn);
+        let norm_sq = exact_norm_sq(plant, &real, level).map_err(|e| e.to_string())?;
+        if norm_sq.sqrt() <= syn.gamma_sq.sqrt() * (1.0 + NORM_TOLERANCE) {
+            return Ok((syn, norm_sq, attempt + 1));
+        }
+        last = format!(
+            "the SDP returned a design whose exact {} norm {:.9e} exceeds its bound γ = {:.9e} by {:.1e} relative \
+             (clarabel {}): a numerical failure, not infeasibility; rescale the plant's matrices towards unit size \
+             or change the horizon",
+            match level {
+                Level::Anisotropy(a) => format!("a-anisotropic (a = {a})"),
+                Level::Hinf => "H∞".to_string(),
+            },
+            norm_sq.sqrt(),
+            syn.gamma_sq.sqrt(),
+            norm_sq.sqrt() / syn.gamma_sq.sqrt() - 1.0,
+            if syn.almost { "AlmostSolved" } else { "Solved" },
+        );
+    }
+    Err(last)
+}
+
+/// P2(k) ⪰ P2_FLOOR · λmax(CzᵀCz) I when Cz is column-rank deficient (see [`synthesize_tuned`]).
+pub const P2_FLOOR: f64 = 1e-6;
+
+/// [`synthesize_tuned`] in balanced state coordinates x̃ = T x, T = diag(t_i) with t_i = 1/√σ_i,
+/// σ_i the time-averaged open-loop variance of x_i under unit white noise (Σ' = AΣAᵀ + BBᵀ from 0).
+/// On a chain of integrators the states grow like k^{1/2}, k^{3/2}, …, and the blocks of the LMIs
+/// (hence P1, P2) span as many orders of magnitude as the horizon makes them; in balanced
+/// coordinates they are comparable. The filter is mapped back: W = T⁻¹W̃T, H = T⁻¹H̃ (z and w are
+/// unchanged, so γ is too).
+fn synthesize_balanced(plant: &Plant, level: Level, tuning: &Tuning) -> std::result::Result<Synthesis, Failure> {
+    let n = plant.nx();
+    let bb = &plant.b * plant.b.transpose();
+    let mut sigma = Mat::zeros(n, n);
+    let mut avg = vec![0.0; n];
+    for _ in 0..plant.steps() {
+        sigma = &plant.a * &sigma * plant.a.transpose() + &bb;
+        for (i, v) in avg.iter_mut().enumerate() {
+            *v += sigma[(i, i)] / plant.steps() as f64;
+        }
+    }
+    let t: Vec<f64> = avg.iter().map(|v| if *v > 0.0 && v.is_finite() { 1.0 / v.sqrt() } else { 1.0 }).collect();
+    let tm = Mat::from_diagonal(&crate::linalg::Vector::from_vec(t.clone()));
+    let ti = Mat::from_diagonal(&crate::linalg::Vector::from_iterator(n, t.iter().map(|v| 1.0 / v)));
+    let mut scaled = plant.clone();
+    scaled.a = &tm * &plant.a * &ti;
+    scaled.b = &tm * &plant.b;
+    scaled.c = &plant.c * &ti;
+    scaled.cz = &plant.cz * &ti;
+    if let Some(p) = plant.arrival {
+        scaled.set_arrival(p);
+    }
+    let mut syn = synthesize_tuned(&scaled, level, tuning)?;
+    for (w, h) in syn.w.iter_mut().zip(syn.h.iter_mut()) {
+        *w = &ti * &*w * &tm;
+        *h = &ti * &*h;
+    }
+    Ok(syn)
+}
+
+/// A design's exact norm may exceed γ by this much (relative): solver tolerance, not a broken bound.
+pub const NORM_TOLERANCE: f64 = 1e-6;
+
+/// |||F|||²_a of a realization from Λ (seed 003 §2); λmax(Λ) = ‖F‖∞² for a = ∞.
+pub fn exact_norm_sq(plant: &Plant, real: &Realization, level: Level) -> Result<f64> {
+    Ok(match level {
+        Level::Anisotropy(a) => crate::anisotropy::realization_norm(plant, real, a)?.0.value.powi(2),
+        Level::Hinf => {
+            crate::linalg::sym_eigen(&crate::anisotropy::error_gram(plant, real)?)?.0.into_iter().fold(0.0, f64::max)
+        }
+    })
+}
+
+/// [`synthesize`] with the given clarabel settings.
+pub fn synthesize_tuned(plant: &Plant, level: Level, tuning: &Tuning) -> std::result::Result<Synthesis, Failure> {
     let (nx, mw, pz, ny) = (plant.nx(), plant.nw(), plant.nz(), plant.ny());
     let (p, v) = (plant.arrival_mean(), plant.dropout_variance());
     let (a, b, cy, dy) = (&plant.a, &plant.b, &plant.c, &plant.d);
@@ -190,7 +312,18 @@ pub fn synthesize(plant: &Plant, level: Level) -> std::result::Result<Synthesis,
     let ident = |d: usize| AffMat::constant(Mat::identity(d, d));
 
     let mut conic = Conic::default();
+    // W = P2⁻¹Q2 and H = P2⁻¹Y2 need P2 ≻ 0. With Cz of full column rank the LMIs give it
+    // (P2(k) ⪰ CzᵀCz from the C row of every LMI); otherwise P2(k) ⪰ εI with
+    // ε = P2_FLOOR · λmax(CzᵀCz) is added: a restriction of the feasible set, so the bound still
+    // holds, and small enough to cost nothing measurable in γ.
+    let floor = (plant.cz.rank(1e-12) < nx).then(|| {
+        let czz = plant.cz.transpose() * &plant.cz;
+        P2_FLOOR * czz.symmetric_eigenvalues().max().max(f64::MIN_POSITIVE)
+    });
     for k in 0..steps {
+        if let Some(eps) = floor {
+            p2[k].sub(&AffMat::constant(Mat::identity(nx, nx) * eps)).psd_into(&mut conic);
+        }
         let pk = diag2(&p1[k], &p2[k]);
         if k < nn {
             let pn = diag2(&p1[k + 1], &p2[k + 1]);
@@ -301,9 +434,9 @@ pub fn synthesize(plant: &Plant, level: Level) -> std::result::Result<Synthesis,
     let mut cost = vec![0.0; nvars];
     cost[gsq] = 1.0;
     let (rows, cones) = conic.size();
-    let sol = conic.minimize(&cost).map_err(|e| {
-        format!("the anisotropic LMIs (4.42)–(4.43) have no solution at this level ({e}): the SDP is infeasible or ill-posed")
-    })?;
+    let sol = conic.minimize_tuned(&cost, tuning)?;
+    let singular =
+        || Failure { status: "solved, but P2(k+1) is singular: W, H cannot be recovered".into(), infeasible: false };
     let x = &sol.x;
     let mut w = Vec::with_capacity(steps);
     let mut h = Vec::with_capacity(steps);
@@ -311,8 +444,8 @@ pub fn synthesize(plant: &Plant, level: Level) -> std::result::Result<Synthesis,
         if k < nn {
             let p2n = p2[k + 1].value(x);
             let lu = p2n.clone().lu();
-            let wk = lu.solve(&q2[k].value(x)).ok_or("P2(k+1) is singular: W, H cannot be recovered")?;
-            let hk = lu.solve(&y2[k].value(x)).ok_or("P2(k+1) is singular: W, H cannot be recovered")?;
+            let wk = lu.solve(&q2[k].value(x)).ok_or_else(singular)?;
+            let hk = lu.solve(&y2[k].value(x)).ok_or_else(singular)?;
             w.push(wk);
             h.push(hk);
         } else {
@@ -331,6 +464,7 @@ pub fn synthesize(plant: &Plant, level: Level) -> std::result::Result<Synthesis,
         cones,
         iterations: sol.iterations,
         solve_seconds: sol.seconds,
+        almost: sol.almost,
     })
 }
 

@@ -74,6 +74,9 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     for g in realization.steps.iter_mut() {
         g.gf = Mat::zeros(2 * p.n, 0);
     }
+    // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
+    // stable, so the plant-coordinate recursion resolves its error).
+    realization.tracks = None;
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("basis".into(), format!("{:?}", p.basis).to_lowercase().into());
     diagnostics.insert("n".into(), p.n.into());

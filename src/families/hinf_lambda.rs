@@ -134,7 +134,7 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
             gf: Mat::identity(n, n),
         })
         .collect();
-    Realization::new(plant.x0_mean.clone(), steps)
+    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n))
 }
 
 /// Checks that the plant and weights fit seed 002's setting; returns S.

@@ -92,5 +92,5 @@ pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         x = symmetrize(&xn);
         m = mn;
     }
-    (Realization::new(plant.x0_mean.clone(), steps), predicted)
+    (Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n)), predicted)
 }

@@ -125,5 +125,5 @@ pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization
             &(&plant.a * &pbar * plant.a.transpose() + &plant.b * &w * plant.b.transpose() - &l * &s * l.transpose()),
         );
     }
-    Realization::new(plant.x0_mean.clone(), steps)
+    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n))
 }

@@ -115,7 +115,10 @@ pub fn finite(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         by_mode.push((0..q).map(|s| predictor_gains(plant, k, s, &gains[s])).collect());
         p = next;
     }
-    (Realization::mode_indexed(plant.x0_mean.clone(), by_mode), predicted)
+    (
+        Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx())),
+        predicted,
+    )
 }
 
 /// One step of (15)–(16) at step k with mode probabilities `prob`: the gains K_s and P(n+1).
@@ -152,7 +155,7 @@ fn predictor_gains(plant: &Plant, k: usize, s: usize, kg: &Mat) -> Gains {
 fn constant(plant: &Plant, k: &[Mat]) -> Realization {
     let by_mode =
         (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect()).collect();
-    Realization::mode_indexed(plant.x0_mean.clone(), by_mode)
+    Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx()))
 }
 
 /// The stationary solution (17)–(18).

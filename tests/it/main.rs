@@ -2,6 +2,7 @@
 //! whole dependency tree again). Statistical tests use fixed seeds; their tolerances are stated in
 //! standard errors (σ) of the Monte Carlo estimate next to each assertion.
 
+mod aniso_design;
 mod aniso_dropout;
 mod anisotropy;
 mod bad_input;
@@ -22,3 +23,4 @@ mod promises;
 mod recording;
 mod sdp;
 mod strict_files;
+mod unstable;

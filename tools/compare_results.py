@@ -1,0 +1,69 @@
+"""Compares two result folders table by table (Parquet, polars): which numeric columns changed and by
+how much (largest absolute and relative difference), so a change to the exact analysis or the Monte
+Carlo can say which shipped numbers moved.
+
+    python3 tools/compare_results.py BEFORE_DIR AFTER_DIR
+
+Each directory holds one folder per experiment (results/NAME as `experiment NAME --out DIR/NAME`
+writes it). Timing columns (`*_seconds`) are reported separately: they differ on every run.
+"""
+
+import math
+import sys
+from pathlib import Path
+
+import polars as pl
+
+TABLES = ["summary", "steps", "paired", "gains", "design_trace"]
+
+
+def compare(before: Path, after: Path) -> int:
+    changed = 0
+    for exp in sorted(p.name for p in before.iterdir() if p.is_dir()):
+        for table in TABLES:
+            fa, fb = before / exp / f"{table}.parquet", after / exp / f"{table}.parquet"
+            if not fa.exists() and not fb.exists():
+                continue
+            if not (fa.exists() and fb.exists()):
+                print(f"{exp}/{table}: present in only one of the two")
+                changed += 1
+                continue
+            a, b = pl.read_parquet(fa), pl.read_parquet(fb)
+            if a.columns != b.columns or a.height != b.height:
+                print(f"{exp}/{table}: shape or columns differ ({a.shape} vs {b.shape})")
+                changed += 1
+                continue
+            diffs = []
+            for col in a.columns:
+                if col.endswith("_seconds"):
+                    continue
+                ca, cb = a[col], b[col]
+                if ca.dtype.is_numeric():
+                    x, y = ca.cast(pl.Float64).to_list(), cb.cast(pl.Float64).to_list()
+                    worst_abs, worst_rel, n = 0.0, 0.0, 0
+                    for u, v in zip(x, y):
+                        if u is None and v is None:
+                            continue
+                        if (u is None) != (v is None) or (math.isnan(u) != math.isnan(v)):
+                            n += 1
+                            worst_rel = math.inf
+                            continue
+                        if math.isnan(u) or u == v:
+                            continue
+                        n += 1
+                        worst_abs = max(worst_abs, abs(u - v))
+                        worst_rel = max(worst_rel, abs(u - v) / max(abs(u), abs(v)))
+                    if n:
+                        diffs.append(f"{col}: {n} values, max abs {worst_abs:.3g}, max rel {worst_rel:.3g}")
+                elif not ca.equals(cb, null_equal=True):
+                    diffs.append(f"{col}: values differ")
+            if diffs:
+                changed += 1
+                print(f"{exp}/{table}: " + "; ".join(diffs))
+            else:
+                print(f"{exp}/{table}: identical")
+    return changed
+
+
+if __name__ == "__main__":
+    sys.exit(1 if compare(Path(sys.argv[1]), Path(sys.argv[2])) else 0)
