@@ -12,7 +12,7 @@ use crate::exact::{self, ExactError, WorstCase};
 use crate::families::{Design, registry};
 use crate::linalg::Mat;
 use crate::montecarlo::{self, McStats, Trajectory};
-use crate::noise::{JointInput, NoiseSampler};
+use crate::noise::{JointInput, NoiseSampler, Shape};
 use crate::plant::{Covariances, Plant};
 use crate::realization::Realization;
 use crate::spec::{Experiment, InputChoice};
@@ -233,20 +233,37 @@ fn anisotropic_input(exp: &Experiment, sigma: &Mat) -> JointInput {
 }
 
 /// E|W|² and the Gaussian anisotropy of W = col(w[0..N]) for a scenario's input (SPEC §5).
+///
+/// The anisotropy is exact for W = L u with L square and u i.i.d. of the scenario's shape: the
+/// Gaussian formula plus lw times the shape's negentropy h_G − h(u) (seed 003 §2 with
+/// h(Lu) = Σ h(u_i) + ln|det L|; [`Shape::entropy`]); infinite for a discrete shape (W has no
+/// density). Where W mixes the x0 components into it (a random full covariance) the
+/// non-Gaussian value has no closed form and is left out; the ellipsoid inputs keep the Gaussian
+/// value of their covariance.
 fn input_statistics(
     exp: &Experiment,
     cov: &Covariances,
+    shape: &Shape,
     w_mean: Option<&Mat>,
     joint: Option<&JointInput>,
 ) -> (f64, Option<f64>) {
     let p = &exp.plant;
     let steps = p.steps();
+    // A(W) − A_Gaussian(W) for W = L u, lw components; None when it has no closed form here.
+    let correction = |lw: usize| -> Option<f64> {
+        match (shape, shape.entropy()) {
+            (Shape::Gaussian, _) => Some(0.0),
+            (_, Some(h)) => Some(lw as f64 * (Shape::Gaussian.entropy().expect("a density") - h)),
+            (_, None) => Some(f64::INFINITY),
+        }
+    };
     match joint {
         None => {
             let w = cov.w();
             let power = steps as f64 * w.trace() + w_mean.map_or(0.0, |m| m.norm_squared());
             let a = steps as f64 * crate::anisotropy::gaussian_anisotropy(&w);
-            (power, (a.is_finite() && w_mean.is_none()).then_some(a))
+            let a = (a.is_finite() && w_mean.is_none()).then_some(a);
+            (power, a.and_then(|a| Some(a + correction(steps * p.nw())?)))
         }
         Some(j) => {
             let (mean, c) = j.moments();
@@ -256,7 +273,15 @@ fn input_statistics(
             let power = cw.trace() + mean.rows(n, d).norm_squared();
             let full = d == steps * p.nw() && mean.rows(n, d).norm() == 0.0;
             let a = crate::anisotropy::gaussian_anisotropy(&cw);
-            (power, (full && a.is_finite()).then_some(a))
+            let a = (full && a.is_finite()).then_some(a);
+            let a = match j {
+                JointInput::Correlated { factor } if *shape != Shape::Gaussian => {
+                    let square = factor.view((n, 0), (d, n)).amax() == 0.0;
+                    a.and_then(|a| Some(a + correction(d).filter(|_| square)?))
+                }
+                _ => a,
+            };
+            (power, a)
         }
     }
 }
@@ -394,7 +419,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             }
             _ => joint.as_ref().map_or_else(|| s.covariance.label(exp), |j| j.label().to_string()),
         };
-        let (input_power, input_anisotropy) = input_statistics(exp, &cov, w_mean.as_ref(), joint.as_ref());
+        let (input_power, input_anisotropy) = input_statistics(exp, &cov, &s.shape, w_mean.as_ref(), joint.as_ref());
         scenarios.push(ScenarioOutcome {
             name: s.name.clone(),
             covariance_label,

@@ -61,3 +61,82 @@ fn norm_limits_monotonicity_and_worst_covariance() {
     let psi = filterbench::hinf::operator_with(&exp.plant, &r, filterbench::hinf::Terminal::Output).unwrap();
     check(&psi, "Kalman predictor error operator");
 }
+
+/// The entropy of each standardized shape: against a direct quadrature of its density (Student-t,
+/// from ln Γ, not the digamma closed form), the Gaussian as the limit of the mixture and of a
+/// Student-t of many degrees of freedom, and every non-Gaussian shape below the Gaussian (the
+/// Gaussian has the largest entropy of a given variance).
+#[test]
+fn shape_entropies() {
+    use filterbench::noise::Shape;
+    use std::f64::consts::PI;
+    let hg = Shape::Gaussian.entropy().unwrap();
+    assert!((hg - 0.5 * (2.0 * PI * std::f64::consts::E).ln()).abs() < 1e-15);
+    // ∫ −p ln p by Simpson on a wide interval, p the unit-variance Student-t density.
+    let t_entropy = |nu: f64| {
+        let s = ((nu - 2.0) / nu).sqrt();
+        let ln_c = statrs::function::gamma::ln_gamma(0.5 * (nu + 1.0))
+            - statrs::function::gamma::ln_gamma(0.5 * nu)
+            - 0.5 * (nu * PI).ln()
+            - s.ln();
+        let lnp = |x: f64| ln_c - 0.5 * (nu + 1.0) * (1.0 + (x / s).powi(2) / nu).ln();
+        let (half, n) = (2000.0, 1usize << 22);
+        let h = 2.0 * half / n as f64;
+        (0..=n)
+            .map(|i| {
+                let x = -half + i as f64 * h;
+                let w = if i == 0 || i == n {
+                    1.0
+                } else if i % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                let lp = lnp(x);
+                -w * lp.exp() * lp
+            })
+            .sum::<f64>()
+            * h
+            / 3.0
+    };
+    for nu in [5.0, 6.0, 30.0] {
+        let closed = Shape::StudentT { nu }.entropy().unwrap();
+        assert!((closed - t_entropy(nu)).abs() < 1e-6, "ν = {nu}: {closed} vs quadrature {}", t_entropy(nu));
+    }
+    let big = Shape::StudentT { nu: 1e6 }.entropy().unwrap();
+    assert!((big - hg).abs() < 1e-5, "Student-t → Gaussian: {big} vs {hg}");
+    for m in [Shape::Mixture { weight: 0.0, ratio: 4.0 }, Shape::Mixture { weight: 0.3, ratio: 1.0 }] {
+        assert!((m.entropy().unwrap() - hg).abs() < 1e-10, "{m:?} is the unit Gaussian");
+    }
+    assert!((Shape::Uniform.entropy().unwrap() - (12f64).sqrt().ln()).abs() < 1e-15);
+    assert!((Shape::Laplace.entropy().unwrap() - (1.0 + 0.5 * 2f64.ln())).abs() < 1e-15);
+    for s in [Shape::Uniform, Shape::Laplace, Shape::StudentT { nu: 6.0 }, Shape::Mixture { weight: 0.1, ratio: 4.0 }] {
+        assert!(s.entropy().unwrap() < hg, "{s:?} has less entropy than the Gaussian");
+    }
+    assert_eq!(Shape::Rademacher.entropy(), None, "a discrete shape has no differential entropy");
+}
+
+/// The anisotropy reported for each scenario of the shapes plant: the same covariance, so every
+/// non-Gaussian value is the Gaussian one plus lw times the shape's negentropy, and Rademacher's
+/// is infinite.
+#[test]
+fn non_gaussian_inputs_have_more_anisotropy() {
+    use filterbench::noise::Shape;
+    let mut exp = crate::common::shapes("filtering");
+    exp.trials = 2;
+    let out = filterbench::run::run(&exp, false).unwrap();
+    let lw = (exp.plant.steps() * exp.plant.nw()) as f64;
+    let hg = Shape::Gaussian.entropy().unwrap();
+    let gaussian = out.scenarios.iter().find(|s| s.shape_label == "gaussian").unwrap().input_anisotropy.unwrap();
+    for (spec, sc) in exp.scenarios.iter().zip(&out.scenarios) {
+        let a = sc.input_anisotropy.expect("white noise of a nonsingular covariance");
+        match spec.shape.entropy() {
+            Some(h) => {
+                let want = gaussian + lw * (hg - h);
+                assert!((a - want).abs() <= 1e-9 * want.abs(), "{}: {a} vs {want}", sc.name);
+                assert!(a >= gaussian, "{}", sc.name);
+            }
+            None => assert_eq!(a, f64::INFINITY, "{}: discrete input", sc.name),
+        }
+    }
+}
