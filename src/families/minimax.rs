@@ -100,6 +100,20 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         if sol.largest_element { "largest element (Theorem 1.2a)" } else { "Algorithm 1 (conditional gradient)" }
             .into(),
     );
+    // Theorem 1.2: the Kalman filter at K̂ is minimax when the set has a largest element (a) or
+    // when R_z(K̂) ≻ 0 (b); with neither, K̂ still maximizes I but the filter is not proven minimax.
+    let rz_min = observation_covariance_min_eigenvalue(&exp.plant, &sol.k_hat)?;
+    let rz_positive = rz_min > 0.0;
+    diagnostics.insert("rz_min_eigenvalue".into(), rz_min.into());
+    diagnostics.insert(
+        "theorem_1_2".into(),
+        match (sol.largest_element, rz_positive) {
+            (true, _) => "a: the set has a largest element",
+            (false, true) => "b: R_z(K̂) ≻ 0",
+            (false, false) => "neither a nor b: K̂ maximizes I, but the filter at K̂ is not proven minimax",
+        }
+        .into(),
+    );
     Ok(Design {
         realization,
         guarantee: Some(Guarantee { kind: "minimax".into(), total: certified, per_step: at_hat.per_step }),
@@ -109,6 +123,45 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
         per_trial: None,
         gain_bound: None,
     })
+}
+
+/// The smallest eigenvalue of R_z(K) = cov(Z_N) = Ψ R_ρ(K) Ψ*, the covariance of every measurement
+/// of the horizon stacked (seed 000 before eq (17); Theorem 1.2b asks R_z(K̂) ≻ 0), relative to its
+/// largest (0 when it is singular to rounding). Z is built column by column as a linear map of
+/// (x0, w[0..N]), so no filter is involved.
+pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> Result<f64> {
+    let (nx, nw, ny) = (plant.nx(), plant.nw(), plant.ny());
+    let cols = nx + plant.steps() * nw;
+    let measured: Vec<usize> = (0..plant.steps()).filter(|n| plant.measured(*n)).collect();
+    let mut m = Mat::zeros(measured.len() * ny, cols);
+    // x[n] as a linear map of (x0, w): starts at [I 0 …].
+    let mut x = Mat::zeros(nx, cols);
+    x.view_mut((0, 0), (nx, nx)).fill_with_identity();
+    let mut row = 0;
+    for n in 0..plant.steps() {
+        let wn = nx + n * nw;
+        if plant.measured(n) {
+            let mut z = plant.c_at(n) * &x;
+            let mut zw = z.view_mut((0, wn), (ny, nw));
+            zw += plant.d_at(n);
+            m.view_mut((row, 0), (ny, cols)).copy_from(&z);
+            row += ny;
+        }
+        let mut next = &plant.a * &x;
+        let mut nw_view = next.view_mut((0, wn), (nx, nw));
+        nw_view += &plant.b;
+        x = next;
+    }
+    let mut full = Mat::zeros(cols, cols);
+    full.view_mut((0, 0), (nx, nx)).copy_from(k.x0());
+    let w = k.w();
+    for n in 0..plant.steps() {
+        full.view_mut((nx + n * nw, nx + n * nw), (nw, nw)).copy_from(&w);
+    }
+    let (eig, _) = crate::linalg::sym_eigen(&(&m * full * m.transpose()))?;
+    let top = eig.iter().cloned().fold(0.0, f64::max);
+    let low = eig.iter().cloned().fold(f64::INFINITY, f64::min);
+    Ok(if top > 0.0 && low > crate::linalg::PSD_TOL * top { low / top } else { 0.0 })
 }
 
 /// I(K) = J(Kalman(K), K), the dual functional (eq (14)).
