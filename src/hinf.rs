@@ -97,6 +97,22 @@ pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> R
     Ok(psi)
 }
 
+/// The generalized H2 norm² of a realization's error system (seed 002 Theorem 3.1, Corollary 3.1):
+/// the largest gain from input energy ξᵀK⁻¹ξ ≤ 1 to the error at a single step,
+/// max_t λmax(Ψ_t K Ψ_tᵀ), with Ψ_t the rows of e_z[t] in Ψ (the SDP (3.8) has this value).
+pub fn generalized_h2_norm_sq(plant: &Plant, real: &Realization, weights: &Covariances) -> Result<f64> {
+    let psi = operator_with(plant, real, Terminal::Output)?;
+    let a = &psi * psd_factor(&input_weight(plant, weights));
+    let nz = plant.nz();
+    let mut top: f64 = 0.0;
+    for t in 0..plant.steps() {
+        let at = a.rows(t * nz, nz);
+        let g = crate::linalg::symmetrize(&(at * at.transpose()));
+        top = top.max(g.symmetric_eigenvalues().max());
+    }
+    Ok(top)
+}
+
 /// The input weight K = blockdiag(R, G, …, G) of the ellipsoid.
 pub fn input_weight(plant: &Plant, weights: &Covariances) -> Mat {
     let w = weights.w();

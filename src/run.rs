@@ -30,6 +30,21 @@ pub struct DesignedFilter {
     pub claimed: Option<Claimed>,
     /// Its NEES weight per step, P_z[k]⁺ / rank, where it claims a covariance ([`crate::nees`]).
     pub nees_weights: Option<Vec<Option<Mat>>>,
+    /// Its generalized H2 norm² under the nominal weights ([`crate::hinf::generalized_h2_norm_sq`]);
+    /// None on a switching plant or when the stacked operator would be too large.
+    pub generalized_h2_sq: Option<f64>,
+}
+
+/// Inputs (x0 and w over the horizon) beyond which the generalized H2 norm is not computed: its
+/// stacked operator grows with their number squared (galerkin_string would need 50 000 of them).
+const GENERALIZED_H2_MAX_INPUTS: usize = 4000;
+
+fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
+    let p = &exp.plant;
+    if p.modes.is_some() || p.nx() + p.horizon * p.nw() > GENERALIZED_H2_MAX_INPUTS {
+        return Ok(None);
+    }
+    crate::hinf::generalized_h2_norm_sq(p, real, &exp.sampling(&exp.nominal)).map(Some)
 }
 
 /// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
@@ -130,7 +145,17 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
                 }
                 _ => None,
             };
-            Ok(DesignedFilter { design, seconds, worst, anisotropic, deterministic_error, claimed, nees_weights })
+            let generalized_h2_sq = generalized_h2(exp, &design.realization)?;
+            Ok(DesignedFilter {
+                design,
+                seconds,
+                worst,
+                anisotropic,
+                deterministic_error,
+                claimed,
+                nees_weights,
+                generalized_h2_sq,
+            })
         })
         .collect();
     designed.into_iter().collect()

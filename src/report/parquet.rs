@@ -88,6 +88,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.claimed.push(d.claimed.as_ref().map(|cl| cl.total));
             c.consistency.push(d.claimed.as_ref().map(|cl| sc.exact[f].total / cl.total));
             let (avg_exact, avg_empirical) = nees_averages(&exp.plant, sc, f);
+            c.generalized_h2_norm_sq.push(d.generalized_h2_sq);
             c.nees_exact.push(avg_exact);
             c.nees_empirical.push(avg_empirical);
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
@@ -143,6 +144,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("consistency", c.consistency),
         col("nees_exact", c.nees_exact),
         col("nees_empirical", c.nees_empirical),
+        col("generalized_h2_norm_sq", c.generalized_h2_norm_sq),
         col("worst_case", c.worst_case),
         col("worst_case_psd", c.worst_case_psd),
         col("violations", c.violations),
@@ -190,6 +192,7 @@ struct SummaryCols {
     consistency: Vec<Option<f64>>,
     nees_exact: Vec<Option<f64>>,
     nees_empirical: Vec<Option<f64>>,
+    generalized_h2_norm_sq: Vec<Option<f64>>,
     worst_case: Vec<Option<f64>>,
     worst_case_psd: Vec<Option<bool>>,
     violations: Vec<Option<u64>>,

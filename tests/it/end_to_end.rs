@@ -54,7 +54,7 @@ fn kalman_baseline_writes_the_output_contract() {
 
 /// Every column of summary.parquet, in order: a new or renamed column must be documented here and
 /// in the README.
-const SUMMARY_COLUMNS: [&str; 43] = [
+const SUMMARY_COLUMNS: [&str; 44] = [
     "experiment",
     "variant",
     "scenario",
@@ -77,6 +77,7 @@ const SUMMARY_COLUMNS: [&str; 43] = [
     "consistency",
     "nees_exact",
     "nees_empirical",
+    "generalized_h2_norm_sq",
     "worst_case",
     "worst_case_psd",
     "violations",
@@ -160,6 +161,7 @@ fn summary_values_are_sane(summary: &DataFrame, trials: u64) {
         "consistency",
         "nees_exact",
         "nees_empirical",
+        "generalized_h2_norm_sq",
         "worst_case",
         "input_power",
     ] {

@@ -218,3 +218,21 @@ fn regression_rls_and_its_hinf_version() {
         }
     }
 }
+
+/// The generalized H2 norm of every filter (seed 002 Theorem 3.1): for the generalized H2 filter it
+/// is its design level max_t λmax(Cz P2[t] Czᵀ) (1e-9), and no other filter of the experiment has a
+/// smaller one (the Kalman predictor's error covariance is the smallest in the Loewner order at
+/// every step).
+#[test]
+fn generalized_h2_norm_of_every_filter() {
+    let exp = crate::common::load("hinf_tradeoff", 10);
+    let filters = filterbench::run::design_all(&exp).unwrap();
+    let h2 = exp.filter_index("h2").unwrap();
+    let level = filters[h2].design.diagnostics["h2_level"].as_f64().unwrap();
+    let own = filters[h2].generalized_h2_sq.unwrap();
+    assert!((own - level).abs() <= 1e-9 * level, "h2 filter: {own} vs its level {level}");
+    for (spec, f) in exp.filters.iter().zip(&filters) {
+        let g = f.generalized_h2_sq.expect("a plant that does not switch");
+        assert!(g >= own * (1.0 - 1e-9), "{}: {g} below the H2 filter's {own}", spec.name);
+    }
+}
