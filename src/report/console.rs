@@ -46,27 +46,53 @@ fn name_cell(name: &str) -> (String, String) {
     }
 }
 
+/// Console width the tables are laid out for.
+const WIDTH: usize = 80;
+
+/// `text` broken at spaces into lines of at most [`WIDTH`] characters (a longer word stays whole),
+/// continuation lines indented by `indent`; ends with a newline.
+fn wrap(text: &str, indent: &str) -> String {
+    let mut out = String::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let len = line.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > WIDTH {
+            out += &line;
+            out += "\n";
+            line = indent.to_string();
+        } else if len > 0 && line != indent {
+            line.push(' ');
+        }
+        line += word;
+    }
+    out + &line + "\n"
+}
+
 /// One block per scenario, one line per filter: empirical mean ± 95 % half-width, exact, z-score of
 /// (empirical − exact) in standard errors ("exact" for a deterministic input), the guaranteed bound
 /// where the filter's promise holds in this scenario, worst case over the set.
 pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
     let gains = exp.anisotropy.is_some() || out.filters.iter().any(|f| f.design.gain_bound.is_some());
-    let mut s = format!(
-        "{}{}: {} trials × {} scenarios, N = {}, {} thread(s), {:.2} s\n",
-        exp.name,
-        exp.variant.as_deref().map_or(String::new(), |v| format!(" [{v}]")),
-        exp.trials,
-        exp.scenarios.len(),
-        exp.plant.horizon,
-        out.threads,
-        out.total_seconds
+    let mut s = wrap(
+        &format!(
+            "{}{}: {} trials × {} scenarios, N = {}, {} thread(s), {:.2} s",
+            exp.name,
+            exp.variant.as_deref().map_or(String::new(), |v| format!(" [{v}]")),
+            exp.trials,
+            exp.scenarios.len(),
+            exp.plant.horizon,
+            out.threads,
+            out.total_seconds
+        ),
+        "",
     );
     for sc in &out.scenarios {
-        s += &format!("\n{} — covariance {}, shape {}", sc.name, sc.covariance_label, sc.shape_label);
+        let mut head = format!("{} — covariance {}, shape {}", sc.name, sc.covariance_label, sc.shape_label);
         if sc.disturbance.is_some() {
-            s += &format!(", disturbance {}", sc.disturbance_label);
+            head += &format!(", disturbance {}", sc.disturbance_label);
         }
         s += "\n";
+        s += &wrap(&head, "    ");
         s += &format!(
             "  {:NAME$}  {:>19}  {:>8}  {:>5}  {:>10}  {:>10}\n",
             "filter", "empirical ± 95%", "exact", "z", "guaranteed", "worst case"
