@@ -46,6 +46,15 @@ pub struct StringFile {
     pub noise_sources: Vec<Vec<f64>>,
     /// Points ξ_p where u is estimated.
     pub outputs: Vec<f64>,
+    /// The random initial state (seed 004's covariance operators 𝒰₀ of u(0) and 𝒰₁ of u_t(0)),
+    /// diagonal in the eigenfunctions: Var a_k(0) = initial_displacement · k^{−initial_decay},
+    /// Var ȧ_k(0) = initial_velocity · k^{−initial_decay}. Zero (a string at rest) by default.
+    #[serde(default)]
+    pub initial_displacement: f64,
+    #[serde(default)]
+    pub initial_velocity: f64,
+    #[serde(default = "four")]
+    pub initial_decay: f64,
 }
 
 fn one() -> f64 {
@@ -69,6 +78,9 @@ pub struct StringModel {
     /// W_m, the measurement noise intensity (m × m, possibly singular).
     pub w_m: Mat,
     pub outputs: Vec<f64>,
+    pub initial_displacement: f64,
+    pub initial_velocity: f64,
+    pub initial_decay: f64,
 }
 
 impl StringModel {
@@ -84,6 +96,17 @@ impl StringModel {
         positive("sensor_width", f.sensor_width)?;
         if !(f.forcing_intensity >= 0.0 && f.forcing_decay.is_finite()) {
             return Err(Error::invalid(key("forcing_intensity"), "must be ≥ 0 (and forcing_decay finite)"));
+        }
+        if !(f.initial_displacement >= 0.0
+            && f.initial_velocity >= 0.0
+            && f.initial_displacement.is_finite()
+            && f.initial_velocity.is_finite()
+            && f.initial_decay.is_finite())
+        {
+            return Err(Error::invalid(
+                key("initial_displacement"),
+                "initial_displacement and initial_velocity must be ≥ 0 (and initial_decay finite)",
+            ));
         }
         if f.duration < f.dt {
             return Err(Error::invalid(key("duration"), "must be at least one step dt"));
@@ -129,6 +152,9 @@ impl StringModel {
             sensor_width: f.sensor_width,
             w_m: &g * g.transpose(),
             outputs: f.outputs.clone(),
+            initial_displacement: f.initial_displacement,
+            initial_velocity: f.initial_velocity,
+            initial_decay: f.initial_decay,
         })
     }
 
@@ -139,6 +165,11 @@ impl StringModel {
     /// q_k = q0 k^{−decay}.
     pub fn intensity(&self, k: usize) -> f64 {
         self.forcing_intensity * (k as f64).powf(-self.forcing_decay)
+    }
+    /// (Var a_k(0), Var ȧ_k(0)): the modal variances of 𝒰₀ and 𝒰₁.
+    pub fn initial(&self, k: usize) -> (f64, f64) {
+        let decay = (k as f64).powf(-self.initial_decay);
+        (self.initial_displacement * decay, self.initial_velocity * decay)
     }
     /// e_k(ξ).
     pub fn eigenfunction(&self, k: usize, xi: f64) -> f64 {
@@ -183,14 +214,21 @@ impl StringModel {
         let cz =
             Mat::from_fn(p, nx, |o, i| if i % 2 == 0 { self.eigenfunction(i / 2 + 1, self.outputs[o]) } else { 0.0 });
         let horizon = ((duration / dt).round() as usize).max(1);
-        sampled(horizon, a, c, cz, q, &self.w_m / dt)
+        let x0 = Mat::from_diagonal(&Vector::from_iterator(
+            nx,
+            (0..nx).map(|i| {
+                let (d, v) = self.initial(i / 2 + 1);
+                if i % 2 == 0 { d } else { v }
+            }),
+        ));
+        sampled(horizon, a, c, cz, q, &self.w_m / dt, x0)
     }
 }
 
-/// x[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q) and w_m ~ (0, R) independent and
-/// x0 = 0 (a string at rest): the sampled form of the truth and of every Galerkin model, with noise
-/// blocks `process` and `measurement`.
-pub fn sampled(horizon: usize, a: Mat, c: Mat, cz: Mat, q: Mat, r: Mat) -> (Plant, Covariances) {
+/// x[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q), w_m ~ (0, R) and x0 ~ (0, X0)
+/// independent (X0 = 0: a string at rest): the sampled form of the truth and of every Galerkin
+/// model, with noise blocks `process` and `measurement`.
+pub fn sampled(horizon: usize, a: Mat, c: Mat, cz: Mat, q: Mat, r: Mat, x0: Mat) -> (Plant, Covariances) {
     let (nx, m, p) = (a.nrows(), c.nrows(), cz.nrows());
     let mut b = Mat::zeros(nx, nx + m);
     b.view_mut((0, 0), (nx, nx)).fill_with_identity();
@@ -209,5 +247,5 @@ pub fn sampled(horizon: usize, a: Mat, c: Mat, cz: Mat, q: Mat, r: Mat) -> (Plan
         Vec::new(),
         vec![("process".into(), nx), ("measurement".into(), m)],
     );
-    (plant, Covariances { blocks: vec![Mat::zeros(nx, nx), q, r] })
+    (plant, Covariances { blocks: vec![x0, q, r] })
 }

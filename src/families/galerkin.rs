@@ -15,7 +15,9 @@
 //! exponential gives Φ and the integrated noise covariance), the measurement noise of intensity
 //! S_α becomes S_α/Δ per sample, and the filter is the Kalman filter of that sampled model in
 //! filtering form (x̂[k] from y[0..k]). As Δ → 0 it converges to the Kalman–Bucy filter
-//! P' = F₂P + PF₂ᵀ + Q − P Cᵀ S_α⁻¹ C P, P(0) = diag(P0, P10) = 0 for a string at rest.
+//! P' = F₂P + PF₂ᵀ + Q − P Cᵀ S_α⁻¹ C P, P(0) = diag(P0, P10): the covariances of the basis
+//! coefficients of u(0) and u_t(0), T 𝒰₀ Tᵀ and T 𝒰₁ Tᵀ with T the modal amplitudes' map to the
+//! coefficients (the first n rows for the eigenfunctions, M⁻¹(e_k, φ_i) for the hats); 0 at rest.
 //! The output is û(ξ_p) = Σ_i x̂_i φ_i(ξ_p).
 
 use serde::Deserialize;
@@ -88,11 +90,22 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
 /// The projected, regularized, sampled model as a plant (state (x, ẋ), noise blocks `process` and
 /// `measurement`) with its covariances.
 pub fn projected(model: &StringModel, horizon: usize, basis: Basis, n: usize, alpha: f64) -> (Plant, Covariances) {
-    let (mass, stiff, forcing, sens, out) = match basis {
+    let (mass, stiff, forcing, sens, out, to_coefficients) = match basis {
         Basis::Eigen => eigen(model, n),
         Basis::Hat => hat(model, n),
     };
     let minv = mass.clone().try_inverse().expect("the mass matrix is positive definite");
+    // P(0) = diag(T 𝒰₀ Tᵀ, T 𝒰₁ Tᵀ), the covariance of the coefficients of (u(0), u_t(0)).
+    let modal = |velocity: bool| {
+        Mat::from_diagonal(&Vector::from_iterator(
+            model.truth_modes,
+            (1..=model.truth_modes).map(|k| if velocity { model.initial(k).1 } else { model.initial(k).0 }),
+        ))
+    };
+    let mut p0 = Mat::zeros(2 * n, 2 * n);
+    p0.view_mut((0, 0), (n, n))
+        .copy_from(&symmetrize(&(&to_coefficients * modal(false) * to_coefficients.transpose())));
+    p0.view_mut((n, n), (n, n)).copy_from(&symmetrize(&(&to_coefficients * modal(true) * to_coefficients.transpose())));
     let f = &minv * stiff;
     let v = symmetrize(&(&minv * forcing * &minv));
     let dt = model.dt;
@@ -115,18 +128,20 @@ pub fn projected(model: &StringModel, horizon: usize, basis: Basis, n: usize, al
     let mut cz = Mat::zeros(out.nrows(), 2 * n);
     cz.view_mut((0, 0), (out.nrows(), n)).copy_from(&out);
     let s_alpha = &model.w_m + alpha * Mat::identity(m, m);
-    crate::string::sampled(horizon, phi, c, cz, qd, s_alpha / dt)
+    crate::string::sampled(horizon, phi, c, cz, qd, s_alpha / dt, p0)
 }
 
-/// Mass, stiffness, forcing covariance V_φ, sensor matrix (m × n) and output matrix (p × n).
-type Projection = (Mat, Mat, Mat, Mat, Mat);
+/// Mass, stiffness, forcing covariance V_φ, sensor matrix (m × n), output matrix (p × n), and the
+/// map T (n × M) from the truth's modal amplitudes to the basis coefficients of their L² projection.
+type Projection = (Mat, Mat, Mat, Mat, Mat, Mat);
 
 fn eigen(model: &StringModel, n: usize) -> Projection {
     let w2 = Mat::from_diagonal(&Vector::from_iterator(n, (1..=n).map(|i| model.omega(i).powi(2))));
     let q = Mat::from_diagonal(&Vector::from_iterator(n, (1..=n).map(|i| model.intensity(i))));
     let sens = Mat::from_fn(model.n_sensors(), n, |j, i| model.sensor_average(i + 1, j));
     let out = Mat::from_fn(model.outputs.len(), n, |p, i| model.eigenfunction(i + 1, model.outputs[p]));
-    (Mat::identity(n, n), w2, q, sens, out)
+    let to_coefficients = Mat::from_fn(n, model.truth_modes, |i, k| (i == k) as u8 as f64);
+    (Mat::identity(n, n), w2, q, sens, out, to_coefficients)
 }
 
 fn hat(model: &StringModel, n: usize) -> Projection {
@@ -164,5 +179,7 @@ fn hat(model: &StringModel, n: usize) -> Projection {
         knots.windows(2).map(|w| (w[1] - w[0]) * (phi(i, w[0]) + phi(i, w[1])) / 2.0).sum::<f64>() / model.sensor_width
     });
     let out = Mat::from_fn(model.outputs.len(), n, |p, i| phi(i, model.outputs[p]));
-    (mass, stiff, forcing, sens, out)
+    let minv = mass.clone().try_inverse().expect("the mass matrix is positive definite");
+    let to_coefficients = minv * proj.transpose();
+    (mass, stiff, forcing, sens, out, to_coefficients)
 }

@@ -223,7 +223,7 @@ fn galerkin_sweep_labels_its_rows_and_omits_zero_gains() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = read(&out.join("summary.parquet"));
-    assert_eq!(summary.height(), 3 * 8, "3 variants × 1 scenario × (2 bases × 2 n × 2 α)");
+    assert_eq!(summary.height(), 4 * 8, "4 variants × 1 scenario × (2 bases × 2 n × 2 α)");
     // `params` holds each swept filter's parameters as JSON, so the surface can be pivoted.
     let (filters, params) =
         (summary.column("filter").unwrap().str().unwrap(), summary.column("params").unwrap().str().unwrap());

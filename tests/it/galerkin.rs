@@ -7,7 +7,7 @@
 use filterbench::exact;
 use filterbench::spec::{self, Experiment, FilterSpec};
 
-use crate::common;
+use crate::common::{self, Patch};
 
 /// Time-averaged exact errors of every filter of `exp`, by name.
 fn averaged(exp: &Experiment) -> std::collections::BTreeMap<String, f64> {
@@ -146,4 +146,36 @@ fn sparse_plant_matrices_give_the_dense_products() {
     }
     assert!(matches!(LinOp::new(&Mat::from_element(40, 40, 1.0)), LinOp::Dense(_)), "dense stays dense");
     assert!(matches!(LinOp::new(&Mat::identity(8, 8)), LinOp::Dense(_)), "small stays dense");
+}
+
+/// Seed 004's random initial state: the truth starts with modal variances (𝒰₀, 𝒰₁), the filters'
+/// P(0) is the covariance of their basis coefficients — exactly the truth's for the eigenfunction
+/// basis with every mode — and Monte Carlo agrees with the exact error with it (the tolerances of
+/// `exact_vs_mc`).
+#[test]
+fn random_initial_state() {
+    let text = common::small_string()
+        .patch("truth_modes = 32", "truth_modes = 32\ninitial_displacement = 0.01\ninitial_velocity = 0.1");
+    let exp = spec::parse("galerkin_random_start", "galerkin_random_start.toml", &text).unwrap();
+    let model = exp.string.as_ref().unwrap();
+    let m = model.truth_modes;
+    let (_, fcov) =
+        filterbench::families::galerkin::projected(model, 10, filterbench::families::galerkin::Basis::Eigen, m, 1e-3);
+    let truth_x0 = exp.nominal.x0();
+    for k in 0..m {
+        let (d, v) = model.initial(k + 1);
+        assert!(d > 0.0 && v > 0.0);
+        assert_eq!(fcov.x0()[(k, k)], d, "P0 of mode {}", k + 1);
+        assert_eq!(fcov.x0()[(m + k, m + k)], v, "P10 of mode {}", k + 1);
+        assert_eq!(
+            (truth_x0[(2 * k, 2 * k)], truth_x0[(2 * k + 1, 2 * k + 1)]),
+            (d, v),
+            "the truth's x0 of mode {}",
+            k + 1
+        );
+    }
+    let (_, hat) =
+        filterbench::families::galerkin::projected(model, 10, filterbench::families::galerkin::Basis::Hat, 8, 1e-3);
+    assert!(filterbench::linalg::min_eigenvalue(hat.x0()) > -1e-15, "the hat basis's P(0) is a covariance");
+    crate::exact_vs_mc::check(&exp);
 }
