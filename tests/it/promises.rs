@@ -90,3 +90,19 @@ fn console_fits_80_columns_and_says_exact_for_deterministic_inputs() {
     // Three worst-input scenarios × five filters: every trial is the same input.
     assert!(deterministic >= 15, "z says exact for the deterministic scenarios:\n{table}");
 }
+
+/// With two disturbance blocks (u on the state, v on the measurement) seed 000's Theorem 3 bound
+/// is not proven (the cross term between the blocks is dropped), so the minimax filters of
+/// minimax_energy and Example 5 guarantee nothing; the bound stays in the manifest and the design.
+#[test]
+fn minimax_bound_with_two_disturbance_blocks_is_no_promise() {
+    for (name, promised) in [("minimax_energy", false), ("minimax_example5", false)] {
+        let exp = crate::common::load(name, 20);
+        let out = run::run(&exp, false).unwrap();
+        let m = exp.filter_index("minimax").unwrap();
+        let blocks = exp.disturbances.iter().filter(|d| d.is_some()).count();
+        for sc in &out.scenarios {
+            assert_eq!(sc.guaranteed[m].is_some(), promised, "{name} ({blocks} blocks) / {}", sc.name);
+        }
+    }
+}
