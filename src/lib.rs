@@ -2,29 +2,16 @@
 //! to one linear [`realization::Realization`]; the exact analysis ([`exact`]) and the Monte Carlo
 //! engine ([`montecarlo`]) are generic over it. See the README for the picture.
 
-pub mod anisotropy;
-pub mod bench;
-pub mod budget;
-pub mod disturbance;
+pub mod analysis;
+pub mod config;
 pub mod error;
-pub mod exact;
 pub mod families;
-pub mod hinf;
-pub mod kind;
-pub mod linalg;
-pub mod linop;
-pub mod montecarlo;
-pub mod nees;
-pub mod noise;
-pub mod plant;
-pub mod realization;
+pub mod filter;
+pub mod model;
+pub mod numerics;
+pub mod pipeline;
 pub mod report;
-pub mod run;
-pub mod solve;
-pub mod spec;
-pub mod stats;
-pub mod string;
-pub mod uncertainty;
+pub mod sim;
 
 pub use error::{Error, Result};
 
@@ -64,7 +51,7 @@ pub fn list_experiments() -> Vec<(String, String)> {
             let p = e.path();
             (p.extension()? == "toml").then(|| {
                 let name = p.file_stem()?.to_str()?.to_string();
-                Some((name, spec::describe(&p).unwrap_or_else(|| "(unreadable experiment file)".into())))
+                Some((name, config::describe(&p).unwrap_or_else(|| "(unreadable experiment file)".into())))
             })?
         })
         .collect();

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use filterbench::report::{self, manifest::Overrides, output};
-use filterbench::{Result, bench, experiment_path, list_experiments, run, spec};
+use filterbench::{Result, config, experiment_path, list_experiments, pipeline};
 
 #[derive(Parser)]
 #[command(
@@ -58,13 +58,13 @@ struct RunOpts {
 }
 
 /// Every variant of the experiment, with the command-line overrides applied.
-fn load(name: &str, opts: &RunOpts) -> Result<Vec<spec::Experiment>> {
-    let mut exps = spec::load_variants(&experiment_path(name)?)?;
+fn load(name: &str, opts: &RunOpts) -> Result<Vec<config::Experiment>> {
+    let mut exps = config::load_variants(&experiment_path(name)?)?;
     for exp in &mut exps {
         if let Some(t) = opts.trials {
-            spec::check_trials("--trials", t)?;
+            config::check_trials("--trials", t)?;
             exp.trials = t;
-            exp.sample_trajectories = spec::sample_count(exp.sample_trajectories, t);
+            exp.sample_trajectories = config::sample_count(exp.sample_trajectories, t);
         }
         if let Some(s) = opts.seed {
             exp.seed = s;
@@ -107,11 +107,12 @@ fn main_inner(cli: Cli) -> Result<()> {
             let exps = load(&name, &opts)?;
             let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exps[0].name));
             let pool = pool(opts.threads)?;
-            filterbench::budget::check(&exps)?;
+            filterbench::pipeline::budget::check(&exps)?;
             output::install_signal_cleanup()?;
             let holder: Vec<String> = std::env::args().map(|a| a.escape_debug().to_string()).collect();
             let staging = output::OutputPlace::claim(&target, &holder.join(" "))?;
-            let outcomes = exps.iter().map(|e| pool.install(|| run::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
+            let outcomes =
+                exps.iter().map(|e| pool.install(|| pipeline::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
             let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
             let overrides = Overrides {
                 trials: opts.trials,
@@ -131,9 +132,9 @@ fn main_inner(cli: Cli) -> Result<()> {
         Command::Bench { name, opts } => {
             let p = pool(opts.threads)?;
             let exps = load(&name, &opts)?;
-            filterbench::budget::check(&exps)?;
+            filterbench::pipeline::budget::check(&exps)?;
             for exp in exps {
-                print!("{}", p.install(|| bench::run(&exp))?);
+                print!("{}", p.install(|| pipeline::bench::run(&exp))?);
             }
         }
     }

@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""Import cycles between the crate's top-level modules.
+"""The crate's layering, checked: import cycles, imports against the layer order, file sizes.
 
 Reads every `crate::<module>` path in src/ (use lines and inline paths), maps each file to its
-top-level module (src/<m>.rs or src/<m>/…), and prints the strongly connected components with more
-than one module, with the edges that close them (file:line of one use per edge). Exit status 1 when
-there is a cycle, 0 when the layers depend one way.
+top-level module (src/<m>.rs or src/<m>/…), and prints
+- the strongly connected components with more than one module, with the edges that close them
+  (file:line of one use per edge);
+- every import of a later layer than the importing one (LAYERS, as docs/architecture.md states it);
+- every source file longer than MAX_LINES.
+Exit status 1 when any of these is found, 0 when the layers depend one way. .ci/run runs it.
 
     python3 tools/module_cycles.py [SRC_DIR]
 """
@@ -13,6 +16,9 @@ import re
 import sys
 
 SRC = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "src")
+# The layers in order: a module may import only from modules before it (docs/architecture.md).
+LAYERS = ["error", "numerics", "model", "filter", "analysis", "families", "sim", "config", "pipeline", "report"]
+MAX_LINES = 500
 PATH = re.compile(r"\bcrate::([a-z_][a-z0-9_]*)")
 # `use crate::{a, b::c}` names several modules at once.
 GROUP = re.compile(r"\bcrate::\{([^}]*)\}", re.S)
@@ -84,15 +90,27 @@ def main():
         adj.setdefault(a, set()).add(b)
         nodes |= {a, b}
     cycles = [c for c in sccs(nodes, adj) if len(c) > 1]
-    if not cycles:
-        print(f"no import cycle between the {len(nodes)} top-level modules")
-        return 0
     for c in cycles:
         print(f"cycle of {len(c)} modules: {', '.join(c)}")
         for (a, b), where in sorted(e.items()):
             if a in c and b in c:
                 print(f"  {a} -> {b}   ({where})")
-    return 1
+    unknown = sorted(m for m in nodes if m not in LAYERS)
+    for m in unknown:
+        print(f"module `{m}` is in no layer: add it to LAYERS and docs/architecture.md")
+    upward = sorted(
+        (a, b, w) for (a, b), w in e.items() if a in LAYERS and b in LAYERS and LAYERS.index(b) > LAYERS.index(a)
+    )
+    for a, b, w in upward:
+        print(f"layer `{a}` imports the later layer `{b}`   ({w})")
+    long = [(f, n) for f in sorted(SRC.rglob("*.rs")) if (n := len(f.read_text().splitlines())) > MAX_LINES]
+    for f, n in long:
+        print(f"{f}: {n} lines (at most {MAX_LINES})")
+    if cycles or unknown or upward or long:
+        return 1
+    print(f"no import cycle between the {len(nodes)} top-level modules; every import goes down the layers "
+          f"{' → '.join(LAYERS)}; no source file over {MAX_LINES} lines")
+    return 0
 
 
 if __name__ == "__main__":

@@ -32,14 +32,14 @@
 
 use serde::Deserialize;
 
-use super::Design;
+use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::linalg::Mat;
-use crate::plant::Plant;
-use crate::realization::{Gains, Realization};
-use crate::solve::affine::{AffMat, Vars};
-use crate::solve::conic::{Conic, Failure, Tuning};
-use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
+use crate::numerics::linalg::Mat;
+use crate::model::plant::Plant;
+use crate::filter::realization::{Gains, Realization};
+use crate::numerics::solve::affine::{AffMat, Vars};
+use crate::numerics::solve::conic::{Conic, Failure, Tuning};
+use crate::model::plant::Pattern;
 
 /// The design level: a total anisotropy a ≥ 0 (over lw = mw(N+1)), or `"inf"` for H∞.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,16 +48,16 @@ pub enum Level {
     Hinf,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
 enum LevelFile {
     Value(f64),
     Name(String),
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     /// Total anisotropy level a of the design (0: H2-suboptimal; "inf": H∞-suboptimal).
     anisotropy: LevelFile,
 }
@@ -79,18 +79,29 @@ pub struct Synthesis {
     pub almost: bool,
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let key = format!("filters.{}.anisotropy", filter.name);
-    let level = match p.anisotropy {
+/// The family's entry: `family = "anisotropic"`.
+pub struct Anisotropic;
+
+impl super::Family for Anisotropic {
+    const NAME: &'static str = "anisotropic";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let key = format!("filters.{}.anisotropy", input.name);
+    let level = match p.anisotropy.clone() {
         LevelFile::Value(a) if a >= 0.0 && a.is_finite() => Level::Anisotropy(a),
         LevelFile::Name(s) if s == "inf" => Level::Hinf,
         LevelFile::Value(a) => return Err(Error::invalid(key, format!("must be finite and ≥ 0, or \"inf\"; got {a}"))),
         LevelFile::Name(s) => return Err(Error::invalid(key, format!("must be a number ≥ 0 or \"inf\"; got \"{s}\""))),
     };
-    check_setting(exp, &filter.name)?;
-    let (syn, norm_sq, attempts) = synthesize_checked(&exp.plant, level).map_err(|e| Error::design(&filter.name, e))?;
-    let realization = realization(&exp.plant, &syn);
+    check_setting(input)?;
+    let (syn, norm_sq, attempts) = synthesize_checked(input.plant, level).map_err(|e| Error::design(input.name, e))?;
+    let realization = realization(input.plant, &syn);
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("exact_norm_sq".into(), norm_sq.into());
     diagnostics.insert("clarabel_attempts".into(), attempts.into());
@@ -109,7 +120,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     diagnostics.insert("clarabel_iterations".into(), syn.iterations.into());
     diagnostics.insert("clarabel_seconds".into(), syn.solve_seconds.into());
     Ok(Design {
-        gain_bound: Some(super::GainBound {
+        gain_bound: Some(crate::filter::design::GainBound {
             gamma_sq: syn.gamma_sq,
             anisotropy: match level {
                 Level::Anisotropy(a) => a,
@@ -122,11 +133,12 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
 
 /// The setting of seed 003 §4.2.1: prediction, x(0) known (zero covariance), every step counted and
 /// measured, a constant measurement matrix.
-fn check_setting(exp: &Experiment, name: &str) -> Result<()> {
-    let p = &exp.plant;
-    let problem = if exp.pattern != Pattern::Prediction {
+fn check_setting(input: &DesignInput) -> Result<()> {
+    let name = input.name;
+    let p = input.plant;
+    let problem = if input.pattern != Pattern::Prediction {
         Some("the anisotropic filter (4.31) is a predictor: set pattern = \"prediction\"")
-    } else if exp.nominal.x0().amax() != 0.0 {
+    } else if input.nominal.x0().amax() != 0.0 {
         Some("the anisotropic theory takes x(0) known (seed 003 (4.7)): set nominal.x0 to zero")
     } else if p.sum_from != 0 || p.first_measurement != 0 || !p.c_steps.is_empty() {
         Some("the anisotropic design needs sum_from = 0, first_measurement = 0 and a constant C")
@@ -246,8 +258,8 @@ fn synthesize_balanced(plant: &Plant, level: Level, tuning: &Tuning) -> std::res
         }
     }
     let t: Vec<f64> = avg.iter().map(|v| if *v > 0.0 && v.is_finite() { 1.0 / v.sqrt() } else { 1.0 }).collect();
-    let tm = Mat::from_diagonal(&crate::linalg::Vector::from_vec(t.clone()));
-    let ti = Mat::from_diagonal(&crate::linalg::Vector::from_iterator(n, t.iter().map(|v| 1.0 / v)));
+    let tm = Mat::from_diagonal(&crate::numerics::linalg::Vector::from_vec(t.clone()));
+    let ti = Mat::from_diagonal(&crate::numerics::linalg::Vector::from_iterator(n, t.iter().map(|v| 1.0 / v)));
     let mut scaled = plant.clone();
     scaled.a = &tm * &plant.a * &ti;
     scaled.b = &tm * &plant.b;
@@ -270,9 +282,9 @@ pub const NORM_TOLERANCE: f64 = 1e-6;
 /// |||F|||²_a of a realization from Λ (seed 003 §2); λmax(Λ) = ‖F‖∞² for a = ∞.
 pub fn exact_norm_sq(plant: &Plant, real: &Realization, level: Level) -> Result<f64> {
     Ok(match level {
-        Level::Anisotropy(a) => crate::anisotropy::realization_norm(plant, real, a)?.0.value.powi(2),
+        Level::Anisotropy(a) => crate::analysis::anisotropy::realization_norm(plant, real, a)?.0.value.powi(2),
         Level::Hinf => {
-            crate::linalg::sym_eigen(&crate::anisotropy::error_gram(plant, real)?)?.0.into_iter().fold(0.0, f64::max)
+            crate::numerics::linalg::sym_eigen(&crate::analysis::anisotropy::error_gram(plant, real)?)?.0.into_iter().fold(0.0, f64::max)
         }
     })
 }

@@ -1,4 +1,4 @@
-//! The regularized Galerkin filter (seed 004, SPEC §6) for the string of [`crate::string`].
+//! The regularized Galerkin filter (seed 004, SPEC §6) for the string of [`crate::model::string`].
 //!
 //! **Projection.** u ≈ Σ_{i ≤ n} x_i φ_i with either the eigenfunctions (`basis = "eigen"`:
 //! mass matrix I, F = diag(ω_i²), forcing covariance diag(q_i)) or the piecewise-linear hat
@@ -22,12 +22,12 @@
 
 use serde::Deserialize;
 
-use super::Design;
+use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
-use crate::plant::{Covariances, Plant};
-use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
-use crate::string::StringModel;
+use crate::numerics::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
+use crate::model::plant::{Covariances, Plant};
+use crate::model::plant::Pattern;
+use crate::model::string::StringModel;
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Debug)]
 #[serde(rename_all = "snake_case")]
@@ -36,24 +36,35 @@ pub enum Basis {
     Hat,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     basis: Basis,
     n: usize,
     alpha: f64,
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let key = |k: &str| format!("filters.{}.{k}", filter.name);
-    let model = exp
+/// The family's entry: `family = "galerkin"`.
+pub struct Galerkin;
+
+impl super::Family for Galerkin {
+    const NAME: &'static str = "galerkin";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let key = |k: &str| format!("filters.{}.{k}", input.name);
+    let model = input
         .string
         .as_ref()
-        .ok_or_else(|| Error::design(&filter.name, "the Galerkin filter needs a [string] plant (seed 004)"))?;
-    if exp.pattern != Pattern::Filtering {
+        .ok_or_else(|| Error::design(input.name, "the Galerkin filter needs a [string] plant (seed 004)"))?;
+    if input.pattern != Pattern::Filtering {
         return Err(Error::design(
-            &filter.name,
+            input.name,
             "the Galerkin filter estimates u(t) from r up to t: set pattern = \"filtering\"",
         ));
     }
@@ -69,7 +80,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
             "W_m is singular, so α = 0 leaves the Kalman–Bucy gain P Cᵀ W_m⁻¹ undefined (seed 004 (5) is ill-posed): use α > 0",
         ));
     }
-    let (fplant, fcov) = projected(model, exp.plant.horizon, p.basis, p.n, p.alpha);
+    let (fplant, fcov) = projected(model, input.plant.horizon, p.basis, p.n, p.alpha);
     let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
     // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
     // truth's r (2M): none at all.
@@ -128,7 +139,7 @@ pub fn projected(model: &StringModel, horizon: usize, basis: Basis, n: usize, al
     let mut cz = Mat::zeros(out.nrows(), 2 * n);
     cz.view_mut((0, 0), (out.nrows(), n)).copy_from(&out);
     let s_alpha = &model.w_m + alpha * Mat::identity(m, m);
-    crate::string::sampled(horizon, phi, c, cz, qd, s_alpha / dt, p0)
+    crate::model::string::sampled(horizon, phi, c, cz, qd, s_alpha / dt, p0)
 }
 
 /// Mass, stiffness, forcing covariance V_φ, sensor matrix (m × n), output matrix (p × n), and the

@@ -13,15 +13,15 @@ use serde::Deserialize;
 
 use super::hinf_lambda::check_setting;
 use super::kalman::design_at;
-use super::{Design, PerTrialBound};
+use crate::filter::design::{Design, DesignInput, PerTrialBound};
 use crate::error::Result;
-use crate::linalg::{Mat, psd_pinv, symmetrize};
-use crate::plant::{Covariances, Plant};
-use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
+use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::model::plant::{Covariances, Plant};
+use crate::model::plant::Pattern;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {}
+pub struct Params {}
 
 /// P2[t] for t = 0..N.
 pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
@@ -39,16 +39,27 @@ pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
     out
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let _: Params = family_params(filter)?;
-    check_setting(exp, &format!("filters.{}", filter.name), &None)?;
-    let p2 = riccati(&exp.plant, &exp.nominal);
-    let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&exp.plant.cz * p * exp.plant.cz.transpose()))).collect();
+/// The family's entry: `family = "h2"`.
+pub struct H2;
+
+impl super::Family for H2 {
+    const NAME: &'static str = "h2";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, _p: &Params) -> Result<Design> {
+    check_setting(input, &format!("filters.{}", input.name), &None)?;
+    let p2 = riccati(input.plant, input.nominal);
+    let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&input.plant.cz * p * input.plant.cz.transpose()))).collect();
     let level = p2
         .iter()
-        .map(|p| symmetrize(&(&exp.plant.cz * p * exp.plant.cz.transpose())).symmetric_eigenvalues().max())
+        .map(|p| symmetrize(&(&input.plant.cz * p * input.plant.cz.transpose())).symmetric_eigenvalues().max())
         .fold(0.0, f64::max);
-    let mut design = design_at(&exp.plant, exp.nominal.clone(), Pattern::Prediction);
+    let mut design = design_at(input.plant, input.nominal.clone(), Pattern::Prediction);
     design.diagnostics.insert("h2_level".into(), level.into());
     design.per_trial = Some(PerTrialBound::Ellipsoid { weights });
     Ok(design)

@@ -12,23 +12,23 @@
 
 use serde::Deserialize;
 
-use super::{Design, PerTrialBound};
+use crate::filter::design::{Design, DesignInput, PerTrialBound};
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
-use crate::plant::{Covariances, Plant};
-use crate::realization::{Gains, Realization};
-use crate::spec::{Experiment, FilterSpec, Pattern, family_params};
+use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
+use crate::model::plant::{Covariances, Plant};
+use crate::filter::realization::{Gains, Realization};
+use crate::model::plant::Pattern;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
 enum Lambda {
     Value(f64),
     Keyword(String),
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     /// λ > 0, or "min" for the smallest feasible λ.
     lambda: Lambda,
     /// S, the weight of the terminal state error e[N] (n×n, PSD); default 0.
@@ -74,7 +74,7 @@ pub fn recursion(
     for t in 0..plant.steps() {
         let last = t == plant.horizon;
         let (value, terminal) = if last {
-            let sh = crate::linalg::psd_factor(s);
+            let sh = crate::numerics::linalg::psd_factor(s);
             (symmetrize(&(sh.transpose() * &p * &sh)).symmetric_eigenvalues().max(), true)
         } else {
             (symmetrize(&(&plant.cz * &p * plant.cz.transpose())).symmetric_eigenvalues().max(), false)
@@ -138,10 +138,10 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
 }
 
 /// Checks that the plant and weights fit seed 002's setting; returns S.
-pub fn check_setting(exp: &Experiment, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
-    let p = &exp.plant;
+pub fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
+    let p = input.plant;
     let n = p.nx();
-    if exp.pattern != Pattern::Prediction {
+    if input.pattern != Pattern::Prediction {
         return Err(Error::invalid(
             key,
             "the H∞-λ filter is a predictor: the experiment's pattern must be \"prediction\"",
@@ -150,7 +150,7 @@ pub fn check_setting(exp: &Experiment, key: &str, terminal: &Option<Vec<Vec<f64>
     if p.dz.amax() != 0.0 {
         return Err(Error::invalid(key, "seed 002's plant has z = Cz x: plant.Dz must be zero"));
     }
-    let w = exp.nominal.w();
+    let w = input.nominal.w();
     let cross = (&p.b * &w * p.d.transpose()).amax();
     if cross > 1e-12 * w.amax().max(1.0) {
         return Err(Error::invalid(
@@ -161,43 +161,54 @@ pub fn check_setting(exp: &Experiment, key: &str, terminal: &Option<Vec<Vec<f64>
     if min_eigenvalue(&(&p.d * &w * p.d.transpose())) <= 0.0 {
         return Err(Error::invalid(key, "needs G_D = D G Dᵀ positive definite (5.5)"));
     }
-    if min_eigenvalue(exp.nominal.x0()) <= 0.0 {
+    if min_eigenvalue(input.nominal.x0()) <= 0.0 {
         return Err(Error::invalid(key, "needs R = cov x0 positive definite (P∞[0] = R)"));
     }
     let s = match terminal {
         Some(r) => from_rows(&format!("{key}.terminal_weight"), r, Some((n, n)))?,
         None => Mat::zeros(n, n),
     };
-    crate::linalg::check_psd(&format!("{key}.terminal_weight"), &s)?;
+    crate::numerics::linalg::check_psd(&format!("{key}.terminal_weight"), &s)?;
     Ok(s)
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let key = format!("filters.{}", filter.name);
-    let s = check_setting(exp, &key, &p.terminal_weight)?;
-    let (lambda, lmin) = match p.lambda {
+/// The family's entry: `family = "hinf"`.
+pub struct HinfLambda;
+
+impl super::Family for HinfLambda {
+    const NAME: &'static str = "hinf";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let key = format!("filters.{}", input.name);
+    let s = check_setting(input, &key, &p.terminal_weight)?;
+    let (lambda, lmin) = match p.lambda.clone() {
         Lambda::Value(l) if l > 0.0 && l.is_finite() => (l, None),
         Lambda::Keyword(k) if k == "min" => {
             if p.margin.is_nan() || p.margin <= 0.0 {
                 return Err(Error::invalid(format!("{key}.margin"), "must be > 0"));
             }
-            let lm = lambda_min(&exp.plant, &exp.nominal, &s)?;
+            let lm = lambda_min(input.plant, input.nominal, &s)?;
             (lm * (1.0 + p.margin), Some(lm))
         }
         _ => return Err(Error::invalid(format!("{key}.lambda"), "must be a positive number or \"min\"")),
     };
-    let gains = recursion(&exp.plant, &exp.nominal, &s, lambda)
-        .map_err(|e| Error::design(&filter.name, format!("λ = {lambda} is too small: {e}")))?;
-    let realization = predictor(&exp.plant, &gains);
-    let (norm2, _) = crate::hinf::norm(&exp.plant, &realization, &exp.nominal, &s)?;
+    let gains = recursion(input.plant, input.nominal, &s, lambda)
+        .map_err(|e| Error::design(input.name, format!("λ = {lambda} is too small: {e}")))?;
+    let realization = predictor(input.plant, &gains);
+    let (norm2, _) = crate::analysis::hinf::norm(input.plant, &realization, input.nominal, &s)?;
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("lambda".into(), lambda.into());
     if let Some(lm) = lmin {
         diagnostics.insert("lambda_min".into(), lm.into());
     }
     diagnostics.insert("hinf_norm_squared".into(), norm2.into());
-    let (sdp, iterations, seconds) = crate::hinf::norm_sdp(&exp.plant, &realization, &exp.nominal, &s)?;
+    let (sdp, iterations, seconds) = crate::analysis::hinf::norm_sdp(input.plant, &realization, input.nominal, &s)?;
     diagnostics.insert("hinf_norm_squared_sdp".into(), sdp.into());
     diagnostics.insert("sdp_iterations".into(), iterations.into());
     diagnostics.insert("sdp_seconds".into(), seconds.into());

@@ -14,45 +14,55 @@
 
 use serde::Deserialize;
 
-use super::Design;
+use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, psd_pinv, symmetrize};
-use crate::noise::CovChoice;
-use crate::plant::{Covariances, Plant};
-use crate::realization::{Gains, Realization};
-use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
+use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::model::plant::{Covariances, Plant};
+use crate::filter::realization::{Gains, Realization};
+use crate::model::choice::CovChoiceFile;
+use crate::model::plant::Pattern;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     #[serde(default)]
     design: CovChoiceFile,
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let key = format!("filters.{}.design", filter.name);
-    if exp.pattern != Pattern::Prediction {
+/// The family's entry: `family = "intermittent"`.
+pub struct Intermittent;
+
+impl super::Family for Intermittent {
+    const NAME: &'static str = "intermittent";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let key = format!("filters.{}.design", input.name);
+    if input.pattern != Pattern::Prediction {
         return Err(Error::design(
-            &filter.name,
+            input.name,
             "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
         ));
     }
-    if exp.plant.modes.is_some() && exp.plant.arrival.is_none() {
+    if input.plant.modes.is_some() && input.plant.arrival.is_none() {
         return Err(Error::design(
-            &filter.name,
+            input.name,
             "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
         ));
     }
     if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
         return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
     }
-    let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
-    let cov = choice.covariances(&key, exp, None)?;
-    let (realization, predicted) = predictor(&exp.plant, &cov);
+    let cov = input.design_point(&key, &p.design, input.has_sets())?;
+    let (realization, predicted) = predictor(input.plant, &cov);
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("riccati_summed_error".into(), predicted.into());
-    Ok(Design::exact_at_design(&exp.plant, realization, cov, diagnostics))
+    Ok(super::exact_at_design(input.plant, realization, cov, diagnostics))
 }
 
 /// The predictor of the module docs and the summed error its Riccati recursion predicts,

@@ -14,17 +14,17 @@
 
 use serde::Deserialize;
 
-use super::Design;
+use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, psd_pinv, symmetrize};
-use crate::noise::CovChoice;
-use crate::plant::{Covariances, Plant};
-use crate::realization::{Gains, Realization};
-use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
+use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::model::plant::{Covariances, Plant};
+use crate::filter::realization::{Gains, Realization};
+use crate::model::choice::CovChoiceFile;
+use crate::model::plant::Pattern;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     /// The covariance the filter is designed at (same forms as a scenario's `covariance`).
     #[serde(default)]
     design: CovChoiceFile,
@@ -34,7 +34,7 @@ struct Params {
     plant: PlantChoice,
 }
 
-#[derive(Deserialize, Default, PartialEq)]
+#[derive(Deserialize, Default, Debug, PartialEq)]
 #[serde(rename_all = "snake_case")]
 enum PlantChoice {
     #[default]
@@ -61,22 +61,32 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
     Ok(out)
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let key = format!("filters.{}.design", filter.name);
+/// The family's entry: `family = "kalman"`.
+pub struct Kalman;
+
+impl super::Family for Kalman {
+    const NAME: &'static str = "kalman";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let key = format!("filters.{}.design", input.name);
     if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
         return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's covariance"));
     }
-    let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
-    let cov = choice.covariances(&key, exp, None)?;
+    let cov = input.design_point(&key, &p.design, input.has_sets())?;
     if p.plant == PlantChoice::ModeAveraged {
-        let avg = mode_averaged(&exp.plant, &filter.name)?;
-        let mut d = design_at(&avg, cov, exp.pattern);
+        let avg = mode_averaged(input.plant, input.name)?;
+        let mut d = design_at(&avg, cov, input.pattern);
         d.guarantee = None;
         d.diagnostics.insert("plant".into(), "mode-averaged (stationary weights): ignores the modes".into());
         return Ok(d);
     }
-    Ok(design_at(&exp.plant, cov, exp.pattern))
+    Ok(design_at(input.plant, cov, input.pattern))
 }
 
 /// The Kalman filter designed at `cov`, with its guarantee: its exact error at `cov`. On a plant
@@ -97,7 +107,7 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
             diagnostics.insert(key.into(), what.into());
             Design { design_covariance: Some(cov), ..Design::new(realization, diagnostics) }
         }
-        None => Design::exact_at_design(plant, realization, cov, diagnostics),
+        None => super::exact_at_design(plant, realization, cov, diagnostics),
     }
 }
 

@@ -19,13 +19,13 @@
 
 use serde::Deserialize;
 
-use super::{Design, TraceRow};
+use crate::filter::design::{Design, DesignInput, TraceRow};
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, psd_pinv, symmetrize};
-use crate::noise::CovChoice;
-use crate::plant::{Covariances, Modes, Plant};
-use crate::realization::{Gains, Realization};
-use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
+use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::model::plant::{Covariances, Modes, Plant};
+use crate::filter::realization::{Gains, Realization};
+use crate::model::choice::CovChoiceFile;
+use crate::model::plant::Pattern;
 
 #[derive(Deserialize, Default, Clone, Copy, PartialEq, Debug)]
 #[serde(rename_all = "snake_case")]
@@ -39,34 +39,44 @@ pub enum GainsKind {
     Common,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     #[serde(default)]
     gains: GainsKind,
     #[serde(default)]
     design: CovChoiceFile,
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let name = &filter.name;
-    if exp.pattern != Pattern::Prediction {
+/// The family's entry: `family = "markov_jump"`.
+pub struct MarkovJump;
+
+impl super::Family for MarkovJump {
+    const NAME: &'static str = "markov_jump";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let name = input.name;
+    if input.pattern != Pattern::Prediction {
         return Err(Error::design(
             name,
             "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
         ));
     }
-    let Some(modes) = exp.plant.modes.as_ref() else {
+    let Some(modes) = input.plant.modes.as_ref() else {
         return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
     };
     let key = format!("filters.{name}.design");
     if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
         return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
     }
-    let choice = CovChoice::resolve(&key, &p.design, &exp.plant, &exp.nominal, exp.has_sets(), &exp.filters)?;
-    let cov = choice.covariances(&key, exp, None)?;
-    let plant = &exp.plant;
+    let cov = input.design_point(&key, &p.design, input.has_sets())?;
+    let plant = input.plant;
     let w = cov.w();
     let mut diagnostics = serde_json::Map::new();
     let mut trace = Vec::new();
@@ -94,7 +104,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     if p.gains == GainsKind::Finite {
         diagnostics.insert("riccati_summed_error".into(), finite(plant, &cov).1.into());
     }
-    Ok(Design { trace, ..Design::exact_at_design(plant, realization, cov, diagnostics) })
+    Ok(Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) })
 }
 
 /// (15)–(16) on the horizon: the mode-indexed predictor and the summed error its recursion

@@ -20,19 +20,19 @@
 use serde::Deserialize;
 
 use super::kalman::kalman;
-use super::{Design, Guarantee, TraceRow};
+use crate::filter::design::{Design, DesignInput, Guarantee, TraceRow};
 use crate::error::{Error, Result};
-use crate::exact;
-use crate::linalg::{Mat, frob_dot};
-use crate::noise::CovChoice;
-use crate::plant::{Covariances, Plant};
-use crate::solve::line::maximize_concave_01;
-use crate::spec::{CovChoiceFile, Experiment, FilterSpec, Pattern, family_params};
-use crate::uncertainty::CovSet;
+use crate::analysis::exact;
+use crate::numerics::linalg::{Mat, frob_dot};
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::solve::line::maximize_concave_01;
+use crate::model::choice::CovChoiceFile;
+use crate::model::plant::Pattern;
+use crate::model::uncertainty::CovSet;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct Params {
+pub struct Params {
     /// Stop when the gap δ ≤ tolerance · I(K(s)).
     #[serde(default = "default_tolerance")]
     tolerance: f64,
@@ -64,32 +64,42 @@ pub struct DualSolution {
     pub largest_element: bool,
 }
 
-pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
-    let p: Params = family_params(filter)?;
-    let key = format!("filters.{}", filter.name);
+/// The family's entry: `family = "minimax"`.
+pub struct Minimax;
+
+impl super::Family for Minimax {
+    const NAME: &'static str = "minimax";
+    type Params = Params;
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        design(input, p)
+    }
+}
+
+fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+    let key = format!("filters.{}", input.name);
     if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
         return Err(Error::invalid(format!("{key}.tolerance"), "must be a positive number"));
     }
     if p.max_iterations == 0 {
         return Err(Error::invalid(format!("{key}.max_iterations"), "must be at least 1"));
     }
-    if !exp.has_sets() {
-        return Err(Error::design(&filter.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
+    if !input.has_sets() {
+        return Err(Error::design(input.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
     }
     if matches!(p.start, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
         return Err(Error::invalid(format!("{key}.start"), "Algorithm 1 cannot start at another filter's covariance"));
     }
-    let choice = CovChoice::resolve(&format!("{key}.start"), &p.start, &exp.plant, &exp.nominal, true, &exp.filters)?;
-    let start = choice.covariances(&format!("{key}.start"), exp, None)?;
-    let sol = dual_solve(&exp.plant, exp.pattern, &exp.sets, start, p.tolerance, p.max_iterations)
-        .map_err(|e| Error::design(&filter.name, e.to_string()))?;
-    let realization = kalman(&exp.plant, &sol.k_hat, exp.pattern);
-    let at_hat = exact::error(&exp.plant, &realization, &sol.k_hat);
+    let start = input.design_point(&format!("{key}.start"), &p.start, true)?;
+    let sol = dual_solve(input.plant, input.pattern, input.sets, start, p.tolerance, p.max_iterations)
+        .map_err(|e| Error::design(input.name, e.to_string()))?;
+    let realization = kalman(input.plant, &sol.k_hat, input.pattern);
+    let at_hat = exact::error(input.plant, &realization, &sol.k_hat);
     // The certified guarantee is F̂'s exact worst case over the set, max_K J(F̂, K): it holds for any
     // filter, and for the minimax one it equals I(K̂) up to the final gap δ ≥ I(K̂) − I(K(s)).
-    let certified = exact::worst_case(&exp.plant, &realization, &exp.nominal, &exp.sets)?
+    let certified = exact::worst_case(input.plant, &realization, input.nominal, input.sets)?
         .map(|w| w.total)
-        .ok_or_else(|| Error::design(&filter.name, "no uncertainty set"))?;
+        .ok_or_else(|| Error::design(input.name, "no uncertainty set"))?;
     let mut diagnostics = serde_json::Map::new();
     diagnostics.insert("iterations".into(), sol.trace.len().into());
     diagnostics.insert("dual_value".into(), sol.value.into());
@@ -102,7 +112,7 @@ pub fn design(exp: &Experiment, filter: &FilterSpec) -> Result<Design> {
     );
     // Theorem 1.2: the Kalman filter at K̂ is minimax when the set has a largest element (a) or
     // when R_z(K̂) ≻ 0 (b); with neither, K̂ still maximizes I but the filter is not proven minimax.
-    let rz_min = observation_covariance_min_eigenvalue(&exp.plant, &sol.k_hat)?;
+    let rz_min = observation_covariance_min_eigenvalue(input.plant, &sol.k_hat)?;
     let rz_positive = rz_min > 0.0;
     diagnostics.insert("rz_min_eigenvalue".into(), rz_min.into());
     diagnostics.insert(
@@ -158,10 +168,10 @@ pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> 
     for n in 0..plant.steps() {
         full.view_mut((nx + n * nw, nx + n * nw), (nw, nw)).copy_from(&w);
     }
-    let (eig, _) = crate::linalg::sym_eigen(&(&m * full * m.transpose()))?;
+    let (eig, _) = crate::numerics::linalg::sym_eigen(&(&m * full * m.transpose()))?;
     let top = eig.iter().cloned().fold(0.0, f64::max);
     let low = eig.iter().cloned().fold(f64::INFINITY, f64::min);
-    Ok(if top > 0.0 && low > crate::linalg::PSD_TOL * top { low / top } else { 0.0 })
+    Ok(if top > 0.0 && low > crate::numerics::linalg::PSD_TOL * top { low / top } else { 0.0 })
 }
 
 /// I(K) = J(Kalman(K), K), the dual functional (eq (14)).

@@ -1,112 +1,120 @@
-//! Filter families: each is a design procedure that turns an experiment and its own parameters into
-//! a [`Realization`] plus what its theory guarantees. Adding a family is one file here and one line
-//! in [`registry`].
+//! Layer 5, the filter families. Each is one file with a type implementing [`Family`]: its name in
+//! experiment files, its typed parameters (read strictly when the file is loaded) and its design
+//! procedure, which turns a [`DesignInput`] into a [`Design`]. Adding a family is that file and
+//! one line in the [`families!`] list below.
 
-pub mod anisotropic;
-pub mod galerkin;
-pub mod h2;
-pub mod hinf_lambda;
-pub mod intermittent;
-pub mod kalman;
-pub mod markov_jump;
-pub mod minimax;
-pub mod registry;
+use std::fmt::Debug;
+use std::sync::Arc;
 
-use crate::plant::Covariances;
-use crate::realization::Realization;
+use serde::de::DeserializeOwned;
 
-/// What a family's theory promises about its error.
-#[derive(Clone, Debug)]
-pub struct Guarantee {
-    /// Short name of the promise, e.g. `exact_at_design` for Kalman (the summed error it attains
-    /// when the noise has its design covariance).
-    pub kind: String,
-    pub total: f64,
-    pub per_step: Vec<f64>,
+use crate::error::{Error, Result};
+use crate::filter::design::{Design, DesignInput, Guarantee};
+use crate::filter::realization::Realization;
+use crate::model::plant::Covariances;
+
+/// A filter family: a design procedure with its name and typed parameters (argmin's `Solver` in
+/// spirit: the name, the parameters, the one method).
+pub trait Family: 'static {
+    /// The name experiment files use: `family = "kalman"`.
+    const NAME: &'static str;
+    /// The `[filters.params]` table, read with `deny_unknown_fields` when the file is loaded.
+    type Params: DeserializeOwned + Debug + Send + Sync;
+    /// Designs the filter.
+    fn design(input: &DesignInput, params: &Self::Params) -> Result<Design>;
 }
 
-/// One iteration of an iterative design (seed 000 Algorithm 1: s, I(K(s)), the gap δ(s), the step
-/// τ(s) taken after it).
-#[derive(Clone, Debug)]
-pub struct TraceRow {
-    pub iteration: usize,
-    pub objective: f64,
-    pub gap: f64,
-    pub step: f64,
+/// A family with its parameters read: what an experiment's filter carries until it is designed.
+pub trait Configured: Debug + Send + Sync {
+    fn family(&self) -> &'static str;
+    fn design(&self, input: &DesignInput) -> Result<Design>;
 }
 
-/// A designed filter.
-#[derive(Clone, Debug)]
-pub struct Design {
-    pub realization: Realization,
-    pub guarantee: Option<Guarantee>,
-    /// The covariance the filter was designed at (Kalman: its `design`; minimax: K̂), if any.
-    pub design_covariance: Option<Covariances>,
-    /// Iterations of the design procedure (empty for closed-form designs).
-    pub trace: Vec<TraceRow>,
-    /// Anything else worth keeping in the manifest (solver figures, which theorem applied, …).
-    pub diagnostics: serde_json::Map<String, serde_json::Value>,
-    /// A guarantee that holds for every single trial (seed 002's H∞-λ), checked on each one.
-    pub per_trial: Option<PerTrialBound>,
-    /// A bound on the mean-square gain over inputs of bounded anisotropy (seed 003).
-    pub gain_bound: Option<GainBound>,
-}
+struct WithParams<F: Family>(F::Params);
 
-impl Design {
-    /// A filter with no promise attached; families add theirs with struct update syntax.
-    pub fn new(realization: Realization, diagnostics: serde_json::Map<String, serde_json::Value>) -> Self {
-        Design {
-            realization,
-            guarantee: None,
-            design_covariance: None,
-            trace: Vec::new(),
-            diagnostics,
-            per_trial: None,
-            gain_bound: None,
-        }
-    }
-
-    /// A filter designed at `cov` that promises its exact error there (`exact_at_design`).
-    pub fn exact_at_design(
-        plant: &crate::plant::Plant,
-        realization: Realization,
-        cov: Covariances,
-        diagnostics: serde_json::Map<String, serde_json::Value>,
-    ) -> Self {
-        let at = crate::exact::error(plant, &realization, &cov);
-        Design {
-            guarantee: Some(Guarantee { kind: "exact_at_design".into(), total: at.total, per_step: at.per_step }),
-            design_covariance: Some(cov),
-            ..Design::new(realization, diagnostics)
-        }
+impl<F: Family> Debug for WithParams<F> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} {:?}", F::NAME, self.0)
     }
 }
 
-/// Seed 003's promise: E|Z̃|² ≤ γ² E|W|² for every input W = col(w[0..N]) with anisotropy ≤ a
-/// (a = ∞: every input; the H∞-suboptimal filter).
-#[derive(Clone, Copy, Debug)]
-pub struct GainBound {
-    pub gamma_sq: f64,
-    pub anisotropy: f64,
+impl<F: Family> Configured for WithParams<F> {
+    fn family(&self) -> &'static str {
+        F::NAME
+    }
+    fn design(&self, input: &DesignInput) -> Result<Design> {
+        F::design(input, &self.0)
+    }
 }
 
-/// Seed 002's per-realization promises, with the input energy
-/// E_t = |x0 − E x0|²_R + Σ_{k<t} |w[k]|²_G (R, G the nominal covariances of x0 and w).
-#[derive(Clone, Debug)]
-pub enum PerTrialBound {
-    /// H∞-λ (eqs (5.9)–(5.10)): (Σ_{k<N} |e_z[k]|² + e[N]ᵀ S e[N]) / E_N < bound, e = x − s.
-    Ratio { bound: f64, terminal_weight: crate::linalg::Mat },
-    /// Generalized H2 (Theorem 3.1 on (5.6)–(5.7)): e_z[t]ᵀ Q[t] e_z[t] ≤ E_t at every step t, with
-    /// Q[t] = (Cz P2[t] Czᵀ)⁺: the error lies in the ellipsoid of Cz P2 Czᵀ scaled by the energy.
-    Ellipsoid { weights: Vec<crate::linalg::Mat> },
+/// One registered family: its name and how to read its parameters.
+pub struct Entry {
+    pub name: &'static str,
+    read: fn(&str, &toml::Table) -> Result<Arc<dyn Configured>>,
 }
 
-impl PerTrialBound {
-    /// The bound on the reported ratio (1 for the ellipsoid form).
-    pub fn bound(&self) -> f64 {
-        match self {
-            PerTrialBound::Ratio { bound, .. } => *bound,
-            PerTrialBound::Ellipsoid { .. } => 1.0,
-        }
+const fn entry<F: Family>() -> Entry {
+    Entry { name: F::NAME, read: read::<F> }
+}
+
+/// Reads filter `filter`'s parameter table as `F::Params`; errors name the key
+/// (`filters.NAME.key`).
+fn read<F: Family>(filter: &str, params: &toml::Table) -> Result<Arc<dyn Configured>> {
+    let p: F::Params = serde_path_to_error::deserialize(toml::Value::Table(params.clone())).map_err(|e| {
+        let path = e.path().to_string();
+        let key = if path == "." { format!("filters.{filter}") } else { format!("filters.{filter}.{path}") };
+        Error::invalid(key, e.inner().message().trim().to_string())
+    })?;
+    Ok(Arc::new(WithParams::<F>(p)))
+}
+
+/// Declares each family's module and lists its type in [`FAMILIES`].
+macro_rules! families {
+    ($($module:ident :: $family:ident),* $(,)?) => {
+        $(pub mod $module;)*
+        /// Every family an experiment file may name.
+        pub const FAMILIES: &[Entry] = &[$(entry::<$module::$family>()),*];
+    };
+}
+
+families! {
+    kalman::Kalman,
+    minimax::Minimax,
+    hinf_lambda::HinfLambda,
+    h2::H2,
+    anisotropic::Anisotropic,
+    intermittent::Intermittent,
+    markov_jump::MarkovJump,
+    galerkin::Galerkin,
+}
+
+/// Reads a filter's family and parameters: the unknown family or the bad parameter is named.
+pub fn configure(filter: &str, family: &str, params: &toml::Table) -> Result<Arc<dyn Configured>> {
+    let known = || FAMILIES.iter().map(|e| e.name).collect::<Vec<_>>().join(", ");
+    let e = FAMILIES.iter().find(|e| e.name == family).ok_or_else(|| {
+        Error::invalid(format!("filters.{filter}.family"), format!("unknown family `{family}` (known: {})", known()))
+    })?;
+    (e.read)(filter, params)
+}
+
+/// Designs one filter and checks its realization against the plant and pattern.
+pub fn design(configured: &dyn Configured, input: &DesignInput) -> Result<Design> {
+    let d = configured.design(input)?;
+    d.realization.check(input.name, input.plant, input.pattern)?;
+    Ok(d)
+}
+
+/// A filter designed at `cov` that promises its exact error there (`exact_at_design`).
+pub fn exact_at_design(
+    plant: &crate::model::plant::Plant,
+    realization: Realization,
+    cov: Covariances,
+    diagnostics: serde_json::Map<String, serde_json::Value>,
+) -> Design {
+    let at = crate::analysis::exact::error(plant, &realization, &cov);
+    Design {
+        guarantee: Some(Guarantee { kind: "exact_at_design".into(), total: at.total, per_step: at.per_step }),
+        design_covariance: Some(cov),
+        ..Design::new(realization, diagnostics)
     }
 }

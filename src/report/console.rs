@@ -2,8 +2,8 @@
 //! figures (the tables keep every digit), and a filter name longer than [`NAME`] characters gets a
 //! line of its own above its numbers.
 
-use crate::run::{RunOutcome, ScenarioOutcome};
-use crate::spec::Experiment;
+use crate::config::Experiment;
+use crate::pipeline::{RunOutcome, ScenarioOutcome};
 
 /// The width of the name column.
 const NAME: usize = 13;

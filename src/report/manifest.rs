@@ -4,9 +4,9 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::config::Experiment;
 use crate::error::{Error, Result};
-use crate::run::RunOutcome;
-use crate::spec::Experiment;
+use crate::pipeline::RunOutcome;
 
 /// Command-line values that replaced the file's.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -37,7 +37,7 @@ fn matrix(m: &nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
 /// The scenarios and filters of one run, as JSON.
 fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<serde_json::Value>) {
     let names = exp.plant.block_names();
-    let cov_json = |c: &crate::plant::Covariances| -> serde_json::Map<String, serde_json::Value> {
+    let cov_json = |c: &crate::model::plant::Covariances| -> serde_json::Map<String, serde_json::Value> {
         names.iter().zip(&c.blocks).map(|(n, m)| (n.to_string(), serde_json::json!(matrix(m)))).collect()
     };
     let scenarios: Vec<_> = out

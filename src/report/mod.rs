@@ -13,9 +13,9 @@ pub mod recording;
 
 use std::path::Path;
 
+use crate::config::Experiment;
 use crate::error::Result;
-use crate::run::RunOutcome;
-use crate::spec::Experiment;
+use crate::pipeline::RunOutcome;
 
 /// Writes every file of the output contract into `dir`, for the runs of one experiment (one per
 /// variant; a file without variants is one run).

@@ -139,7 +139,7 @@ fn is_result_manifest(path: &Path) -> bool {
 pub fn check_target(target: &Path) -> Result<(PathBuf, String)> {
     let key = |p: &Path| format!("--out {}", p.display().to_string().escape_debug());
     let shown = key(target);
-    crate::spec::check_name("--out", &target.to_string_lossy())?;
+    crate::config::check_name("--out", &target.to_string_lossy())?;
     if target.as_os_str().is_empty() {
         return Err(Error::invalid("--out", "the output folder is empty"));
     }

@@ -4,10 +4,10 @@ use std::path::Path;
 
 use polars::prelude::*;
 
+use crate::config::Experiment;
 use crate::error::{Error, Result};
-use crate::montecarlo::McStats;
-use crate::run::RunOutcome;
-use crate::spec::Experiment;
+use crate::pipeline::RunOutcome;
+use crate::sim::montecarlo::McStats;
 
 /// One run's part of a table.
 type Part = fn(&Experiment, &RunOutcome) -> Result<DataFrame>;
@@ -219,8 +219,8 @@ struct SummaryCols {
 /// A filter's NEES averaged over the steps that count and where it claims an error: exact, and
 /// the mean of the per-step Monte Carlo means.
 fn nees_averages(
-    plant: &crate::plant::Plant,
-    sc: &crate::run::ScenarioOutcome,
+    plant: &crate::model::plant::Plant,
+    sc: &crate::pipeline::ScenarioOutcome,
     f: usize,
 ) -> (Option<f64>, Option<f64>) {
     let Some(exact) = &sc.nees_exact[f] else { return (None, None) };
@@ -307,7 +307,7 @@ fn gains<'a>(exp: &'a Experiment, out: &RunOutcome) -> Result<DataFrame> {
         let r = &d.design.realization;
         push(&spec.name, 0, None, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
         // A mode-indexed realization has one set of gains per (step, mode); others have mode null.
-        let sets: Vec<(usize, Option<u32>, &crate::realization::Gains)> = if r.by_mode.is_empty() {
+        let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if r.by_mode.is_empty() {
             r.steps.iter().enumerate().map(|(k, g)| (k, None, g)).collect()
         } else {
             r.by_mode

@@ -13,8 +13,8 @@
 use std::time::Instant;
 
 use filterbench::families::anisotropic::{self, Level, NORM_TOLERANCE};
-use filterbench::linalg::{Mat, Vector};
-use filterbench::plant::Plant;
+use filterbench::model::plant::Plant;
+use filterbench::numerics::linalg::{Mat, Vector};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Uniform};
 

@@ -8,12 +8,13 @@
 //! tolerance (1e-6 relative).
 use crate::common::Patch;
 
-use filterbench::anisotropy::{coloured_covariance, error_gram, gaussian_anisotropy, realization_norm};
-use filterbench::exact;
+use filterbench::analysis::anisotropy::{coloured_covariance, error_gram, gaussian_anisotropy, realization_norm};
+use filterbench::analysis::exact;
+use filterbench::config::{self, Experiment, Pattern};
 use filterbench::families::{anisotropic, intermittent, kalman};
-use filterbench::linalg::{Mat, Vector, block_diag, psd_factor};
-use filterbench::noise::{JointInput, NoiseSampler, Shape, trial_rng};
-use filterbench::spec::{self, Experiment, Pattern};
+use filterbench::model::shape::Shape;
+use filterbench::numerics::linalg::{Mat, Vector, block_diag, psd_factor};
+use filterbench::sim::noise::{JointInput, NoiseSampler, trial_rng};
 
 use crate::common;
 
@@ -35,7 +36,7 @@ input = { kind = "anisotropic_worst_for", filter = "kalman", anisotropy = 4.0 }
 }
 
 pub(crate) fn dropout_shapes(pattern: &str) -> Experiment {
-    spec::parse("dropout_shapes", "dropout_shapes.toml", &dropout_shapes_text(pattern)).expect("test plant parses")
+    config::parse("dropout_shapes", "dropout_shapes.toml", &dropout_shapes_text(pattern)).expect("test plant parses")
 }
 
 #[test]
@@ -171,7 +172,7 @@ fn monte_carlo_gain_under_worst_inputs_matches_trace_formula() {
     // The guarantee and tr(ΛΣ)/tr Σ concern the noise alone: no known input here.
     exp.plant.known_input.clear();
     exp.scenarios.retain(|s| s.name.starts_with("worst_for_"));
-    let out = filterbench::run::run(&exp, false).unwrap();
+    let out = filterbench::pipeline::run(&exp, false).unwrap();
     let a = exp.anisotropy.unwrap();
     let grams: Vec<Mat> = out.filters.iter().map(|f| error_gram(&exp.plant, &f.design.realization).unwrap()).collect();
     for sc in &out.scenarios {

@@ -2,8 +2,8 @@
 //! limits ‖F‖₂/sqrt(lw) (a → 0) and ‖F‖∞ (a → ∞) on random operators and on a filter's error
 //! operator, its monotonicity in a, and the worst covariance Σ(q) reaching exactly the level a.
 
-use filterbench::anisotropy::{anisotropic_norm, gaussian_anisotropy};
-use filterbench::linalg::Mat;
+use filterbench::analysis::anisotropy::{anisotropic_norm, gaussian_anisotropy};
+use filterbench::numerics::linalg::Mat;
 
 fn random(rows: usize, cols: usize, seed: u64) -> Mat {
     use rand::SeedableRng;
@@ -57,8 +57,10 @@ fn norm_limits_monotonicity_and_worst_covariance() {
     }
     // A filter's error operator over the horizon (hinf_tradeoff's Kalman predictor).
     let exp = crate::common::load("hinf_tradeoff", 10);
-    let r = filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::spec::Pattern::Prediction);
-    let psi = filterbench::hinf::operator_with(&exp.plant, &r, filterbench::hinf::Terminal::Output).unwrap();
+    let r =
+        filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::model::plant::Pattern::Prediction);
+    let psi = filterbench::analysis::hinf::operator_with(&exp.plant, &r, filterbench::analysis::hinf::Terminal::Output)
+        .unwrap();
     check(&psi, "Kalman predictor error operator");
 }
 
@@ -68,7 +70,7 @@ fn norm_limits_monotonicity_and_worst_covariance() {
 /// Gaussian has the largest entropy of a given variance).
 #[test]
 fn shape_entropies() {
-    use filterbench::noise::Shape;
+    use filterbench::model::shape::Shape;
     use std::f64::consts::PI;
     let hg = Shape::Gaussian.entropy().unwrap();
     assert!((hg - 0.5 * (2.0 * PI * std::f64::consts::E).ln()).abs() < 1e-15);
@@ -121,10 +123,10 @@ fn shape_entropies() {
 /// is infinite.
 #[test]
 fn non_gaussian_inputs_have_more_anisotropy() {
-    use filterbench::noise::Shape;
+    use filterbench::model::shape::Shape;
     let mut exp = crate::common::shapes("filtering");
     exp.trials = 2;
-    let out = filterbench::run::run(&exp, false).unwrap();
+    let out = filterbench::pipeline::run(&exp, false).unwrap();
     let lw = (exp.plant.steps() * exp.plant.nw()) as f64;
     let hg = Shape::Gaussian.entropy().unwrap();
     let gaussian = out.scenarios.iter().find(|s| s.shape_label == "gaussian").unwrap().input_anisotropy.unwrap();

@@ -1,6 +1,6 @@
 //! Shared fixtures.
 
-use filterbench::spec::{self, Experiment};
+use filterbench::config::{self, Experiment};
 
 /// `str::replace` for fixtures: panics when the pattern is absent, so a reformatted experiment file
 /// cannot silently turn a test into a test of another case.
@@ -23,7 +23,7 @@ pub fn text(name: &str) -> String {
 /// The shipped experiment `name` with `trials` trials.
 pub fn load(name: &str, trials: usize) -> Experiment {
     let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut e = spec::load(std::path::Path::new(&path)).unwrap_or_else(|err| panic!("{name} parses: {err}"));
+    let mut e = config::load(std::path::Path::new(&path)).unwrap_or_else(|err| panic!("{name} parses: {err}"));
     e.trials = trials;
     e
 }
@@ -31,7 +31,7 @@ pub fn load(name: &str, trials: usize) -> Experiment {
 /// The shipped experiment's variant `variant`.
 pub fn variant(name: &str, variant: &str, trials: usize) -> Experiment {
     let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut e = spec::load_variants(std::path::Path::new(&path))
+    let mut e = config::load_variants(std::path::Path::new(&path))
         .expect("parses")
         .into_iter()
         .find(|e| e.variant.as_deref() == Some(variant))
@@ -114,7 +114,7 @@ shape = { kind = "mixture", weight = 0.1, ratio = 4.0 }
 "#;
 
 pub fn shapes(pattern: &str) -> Experiment {
-    spec::parse("shapes", "shapes.toml", &SHAPES_TOML.patch("PATTERN", pattern)).expect("test plant parses")
+    config::parse("shapes", "shapes.toml", &SHAPES_TOML.patch("PATTERN", pattern)).expect("test plant parses")
 }
 
 /// A fresh folder under the system temp dir, removed on drop. (No dev-dependency for this: a

@@ -1,12 +1,12 @@
 //! Results are bit-identical for any number of threads.
 use crate::common::Patch;
 
-use filterbench::run;
+use filterbench::pipeline;
 
 use crate::common;
 
-fn run_with(threads: usize, exp: &filterbench::spec::Experiment) -> run::RunOutcome {
-    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| run::run(exp, false).unwrap())
+fn run_with(threads: usize, exp: &filterbench::config::Experiment) -> pipeline::RunOutcome {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| pipeline::run(exp, false).unwrap())
 }
 
 #[test]
@@ -22,12 +22,12 @@ fn identical_bits_with_dropouts_and_anisotropic_inputs() {
     let text = crate::aniso_dropout::dropout_shapes_text("prediction")
         .patch("horizon = 20", "horizon = 150")
         .patch("anisotropy = 12.0", "anisotropy = 80.0");
-    let mut exp = filterbench::spec::parse("dropout_shapes", "t.toml", &text).unwrap();
+    let mut exp = filterbench::config::parse("dropout_shapes", "t.toml", &text).unwrap();
     exp.trials = 700;
     identical(&exp);
 }
 
-fn identical(exp: &filterbench::spec::Experiment) {
+fn identical(exp: &filterbench::config::Experiment) {
     let a = run_with(1, exp);
     let b = run_with(2, exp);
     assert_eq!(a.threads, 1);

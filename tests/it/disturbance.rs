@@ -2,10 +2,10 @@
 //! worst case beats every random sequence, Monte Carlo matches the exact error with a deterministic
 //! mean, and the minimax guarantee holds.
 
-use filterbench::disturbance::{self, energy};
-use filterbench::exact;
-use filterbench::run;
-use filterbench::spec::Experiment;
+use filterbench::analysis::exact;
+use filterbench::config::Experiment;
+use filterbench::model::disturbance::{self, energy};
+use filterbench::pipeline;
 
 fn load(trials: usize) -> Experiment {
     crate::common::load("minimax_energy", trials)
@@ -14,7 +14,7 @@ fn load(trials: usize) -> Experiment {
 #[test]
 fn sequences_lie_on_the_energy_bound_and_the_worst_beats_random_ones() {
     let exp = load(10);
-    let filters = run::design_all(&exp).unwrap();
+    let filters = pipeline::design_all(&exp).unwrap();
     let blocks: Vec<(usize, &disturbance::Disturbance)> =
         exp.disturbances.iter().skip(1).enumerate().filter_map(|(b, d)| d.as_ref().map(|d| (b, d))).collect();
     assert_eq!(blocks.len(), 2);
@@ -51,7 +51,7 @@ fn monte_carlo_matches_the_exact_error_with_disturbances() {
 #[test]
 fn minimax_guarantee_holds_with_disturbances() {
     let exp = load(4000);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let m = exp.filter_index("minimax").unwrap();
     let bound = out.filters[m].design.guarantee.as_ref().unwrap().total;
     let worst = out.filters[m].worst.as_ref().unwrap().total;

@@ -7,12 +7,12 @@
 //! outcome is reproducible; the tolerances are what a correct engine passes with high probability
 //! for any seed, not tuned to these seeds.
 
-use filterbench::run;
+use filterbench::pipeline;
 
 use crate::common;
 
-pub(crate) fn check(exp: &filterbench::spec::Experiment) {
-    let out = run::run(exp, false).expect("runs");
+pub(crate) fn check(exp: &filterbench::config::Experiment) {
+    let out = pipeline::run(exp, false).expect("runs");
     let mut worst_total: f64 = 0.0;
     let mut worst_step: f64 = 0.0;
     for sc in &out.scenarios {
@@ -84,7 +84,7 @@ fn every_shape_filtering_with_correlated_noise_and_known_input() {
 #[test]
 fn summed_errors_agree_and_the_tolerance_rejects_a_two_percent_bias() {
     let exp = common::baseline(SUMMED_TRIALS);
-    let out = run::run(&exp, false).expect("runs");
+    let out = pipeline::run(&exp, false).expect("runs");
     let mut smallest: f64 = f64::INFINITY;
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {

@@ -4,14 +4,14 @@
 //! comparable. Tolerances: stated at each assertion; Monte Carlo within 4σ in total and 4.5σ per
 //! step (as in `exact_vs_mc`).
 
-use filterbench::exact;
-use filterbench::spec::{self, Experiment, FilterSpec};
+use filterbench::analysis::exact;
+use filterbench::config::{self, Experiment, FilterSpec};
 
 use crate::common::{self, Patch};
 
 /// Time-averaged exact errors of every filter of `exp`, by name.
 fn averaged(exp: &Experiment) -> std::collections::BTreeMap<String, f64> {
-    let designs = filterbench::run::design_all(exp).unwrap();
+    let designs = filterbench::pipeline::design_all(exp).unwrap();
     exp.filters
         .iter()
         .zip(&designs)
@@ -67,14 +67,14 @@ fn spec_of(basis: &str, n: usize, alpha: f64) -> FilterSpec {
     params.insert("basis".into(), basis.into());
     params.insert("n".into(), (n as i64).into());
     params.insert("alpha".into(), alpha.into());
-    FilterSpec { name: "tiny".into(), family: "galerkin".into(), params }
+    FilterSpec::new("tiny".into(), "galerkin".into(), params).expect("valid parameters")
 }
 
 #[test]
 fn alpha_zero_is_refused_when_w_m_is_singular() {
     let mut exp = common::variant("galerkin_string", "m3_dt0.0025", 10);
     exp.filters = vec![spec_of("eigen", 4, 0.0)];
-    let err = filterbench::run::design_all(&exp).err().expect("refused").to_string();
+    let err = filterbench::pipeline::design_all(&exp).err().expect("refused").to_string();
     assert!(err.contains("singular") && err.contains("alpha"), "{err}");
 }
 
@@ -89,7 +89,7 @@ fn halving_the_step_changes_the_error_by_less_than_one_percent() {
 
 /// A small string (32 truth modes, N = 100) for the Monte Carlo and the fast exact path.
 fn small() -> Experiment {
-    spec::parse("galerkin_small", "galerkin_small.toml", &common::small_string()).unwrap()
+    config::parse("galerkin_small", "galerkin_small.toml", &common::small_string()).unwrap()
 }
 
 #[test]
@@ -103,9 +103,9 @@ fn monte_carlo_agrees_with_the_exact_error() {
 #[test]
 fn block_recursion_equals_the_dense_lyapunov_recursion() {
     let exp = small();
-    let designs = filterbench::run::design_all(&exp).unwrap();
+    let designs = filterbench::pipeline::design_all(&exp).unwrap();
     let nx = exp.plant.nx();
-    let perm = filterbench::linalg::Mat::from_fn(nx, nx, |i, j| {
+    let perm = filterbench::numerics::linalg::Mat::from_fn(nx, nx, |i, j| {
         let from = if i < nx / 2 { 2 * i } else { 2 * (i - nx / 2) + 1 };
         if j == from { 1.0 } else { 0.0 }
     });
@@ -129,8 +129,8 @@ fn block_recursion_equals_the_dense_lyapunov_recursion() {
 /// numbers as nalgebra's dense gemv, to rounding, in the two ways the loop calls them.
 #[test]
 fn sparse_plant_matrices_give_the_dense_products() {
-    use filterbench::linalg::{Mat, Vector};
-    use filterbench::linop::LinOp;
+    use filterbench::numerics::linalg::{Mat, Vector};
+    use filterbench::numerics::linop::LinOp;
     let exp = small();
     for m in [&exp.plant.a, &exp.plant.b] {
         let op = LinOp::new(m);
@@ -156,7 +156,7 @@ fn sparse_plant_matrices_give_the_dense_products() {
 fn random_initial_state() {
     let text = common::small_string()
         .patch("truth_modes = 32", "truth_modes = 32\ninitial_displacement = 0.01\ninitial_velocity = 0.1");
-    let exp = spec::parse("galerkin_random_start", "galerkin_random_start.toml", &text).unwrap();
+    let exp = config::parse("galerkin_random_start", "galerkin_random_start.toml", &text).unwrap();
     let model = exp.string.as_ref().unwrap();
     let m = model.truth_modes;
     let (_, fcov) =
@@ -176,6 +176,6 @@ fn random_initial_state() {
     }
     let (_, hat) =
         filterbench::families::galerkin::projected(model, 10, filterbench::families::galerkin::Basis::Hat, 8, 1e-3);
-    assert!(filterbench::linalg::min_eigenvalue(hat.x0()) > -1e-15, "the hat basis's P(0) is a covariance");
+    assert!(filterbench::numerics::linalg::min_eigenvalue(hat.x0()) > -1e-15, "the hat basis's P(0) is a covariance");
     crate::exact_vs_mc::check(&exp);
 }

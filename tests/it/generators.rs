@@ -2,11 +2,12 @@
 //! covariance (checked entrywise against the sample covariance of many draws, within 4.5σ of each
 //! entry's own standard error), and the covariance choices land where they should in the set.
 
-use filterbench::exact;
-use filterbench::noise::{NoiseSampler, Shape, trial_rng};
-use filterbench::plant::Covariances;
-use filterbench::run;
-use filterbench::uncertainty::{CovSet, SetShape};
+use filterbench::analysis::exact;
+use filterbench::model::plant::Covariances;
+use filterbench::model::shape::Shape;
+use filterbench::model::uncertainty::{CovSet, SetShape};
+use filterbench::pipeline;
+use filterbench::sim::noise::{NoiseSampler, trial_rng};
 
 use crate::common;
 
@@ -118,7 +119,7 @@ fn vertices_and_interior_points_lie_where_they_should() {
     let upper = nalgebra::DMatrix::from_row_slice(2, 2, &[1.5, 0.3, 0.3, 1.2]);
     let lw =
         CovSet::new("t", SetShape::Loewner { lower: lower.clone(), upper: upper.clone() }, false, &center).unwrap();
-    let min_eig = |m: &nalgebra::DMatrix<f64>| filterbench::linalg::min_eigenvalue(m);
+    let min_eig = |m: &nalgebra::DMatrix<f64>| filterbench::numerics::linalg::min_eigenvalue(m);
     for _ in 0..100 {
         for s in [lw.random_vertex(&mut rng).unwrap(), lw.random_interior(&mut rng).unwrap()] {
             assert!(min_eig(&(&s - &lower)) >= -1e-12 && min_eig(&(&upper - &s)) >= -1e-12, "inside the interval");
@@ -141,7 +142,7 @@ fn vertices_and_interior_points_lie_where_they_should() {
 fn worst_case_for_a_filter_beats_every_sampled_point_of_the_set() {
     use rand::SeedableRng;
     let exp = common::baseline(10);
-    let filters = run::design_all(&exp).unwrap();
+    let filters = pipeline::design_all(&exp).unwrap();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
     for f in &filters {
         let real = &f.design.realization;

@@ -2,12 +2,12 @@
 //! input attaining the norm, the smallest λ, refusals, and the per-trial guarantee under Monte Carlo.
 use crate::common::Patch;
 
+use filterbench::analysis::hinf;
+use filterbench::config::{self, Experiment, Pattern};
 use filterbench::families::hinf_lambda::{lambda_min, predictor, recursion};
 use filterbench::families::kalman::kalman;
-use filterbench::hinf;
-use filterbench::linalg::{Mat, Vector};
-use filterbench::run;
-use filterbench::spec::{self, Experiment, Pattern};
+use filterbench::numerics::linalg::{Mat, Vector};
+use filterbench::pipeline;
 
 fn load(trials: usize) -> Experiment {
     crate::common::load("hinf_tradeoff", trials)
@@ -83,14 +83,14 @@ fn monte_carlo_matches_the_exact_error_for_joint_inputs() {
 fn too_small_lambda_and_wrong_settings_are_refused() {
     let text = crate::common::text("hinf_tradeoff");
     let bad = text.patch("lambda = 7.5", "lambda = 1.0");
-    let e = spec::parse("h", "h.toml", &bad).unwrap();
-    let err = run::design_all(&e).err().expect("λ = 1 is infeasible").to_string();
+    let e = config::parse("h", "h.toml", &bad).unwrap();
+    let err = pipeline::design_all(&e).err().expect("λ = 1 is infeasible").to_string();
     assert!(err.contains("hinf_7.5") && err.contains("too small") && err.contains("step 0"), "{err}");
     let filt = text.patch("pattern = \"prediction\"", "pattern = \"filtering\"");
-    let err = run::design_all(&spec::parse("h", "h.toml", &filt).unwrap()).err().unwrap().to_string();
+    let err = pipeline::design_all(&config::parse("h", "h.toml", &filt).unwrap()).err().unwrap().to_string();
     assert!(err.contains("predictor"), "{err}");
     let corr = text.patch("D = [[0.0, 0.0, 0.0, 0.5]]", "D = [[0.3, 0.0, 0.0, 0.5]]");
-    let err = run::design_all(&spec::parse("h", "h.toml", &corr).unwrap()).err().unwrap().to_string();
+    let err = pipeline::design_all(&config::parse("h", "h.toml", &corr).unwrap()).err().unwrap().to_string();
     assert!(err.contains("noise split"), "{err}");
 }
 
@@ -100,7 +100,7 @@ fn too_small_lambda_and_wrong_settings_are_refused() {
 #[test]
 fn no_trial_violates_the_guarantee() {
     let exp = load(4000);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let mut checked = 0;
     for (f, spec) in exp.filters.iter().enumerate() {
         let Some(norm2) = out.filters[f].design.diagnostics.get("hinf_norm_squared").and_then(|v| v.as_f64()) else {
@@ -138,8 +138,8 @@ fn operator_and_sdp_norms_agree() {
     use rand_distr::{Distribution, StandardNormal};
     let exp = load(10);
     let s = Mat::identity(3, 3);
-    let filters = run::design_all(&exp).unwrap();
-    let mut cases: Vec<(Experiment, filterbench::realization::Realization)> =
+    let filters = pipeline::design_all(&exp).unwrap();
+    let mut cases: Vec<(Experiment, filterbench::filter::realization::Realization)> =
         filters.iter().map(|f| (exp.clone(), f.design.realization.clone())).collect();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
     let mut g = |r: usize, c: usize, scale: f64| {
@@ -197,7 +197,7 @@ fn h2_worst_gain_per_step_is_lambda_max_of_cz_p2_czt() {
 #[test]
 fn regression_rls_and_its_hinf_version() {
     let exp = crate::common::load("hinf_regression", 4000);
-    let filters = run::design_all(&exp).unwrap();
+    let filters = pipeline::design_all(&exp).unwrap();
     let g_inv = 1.0 / exp.nominal.w()[(0, 0)];
     for (name, lambda) in [("rls", f64::INFINITY), ("hinf_60", 60.0)] {
         let f = exp.filter_index(name).unwrap();
@@ -211,7 +211,7 @@ fn regression_rls_and_its_hinf_version() {
             assert!(d <= 1e-10 * theta.amax().max(1.0), "{name} step {t}: gain differs by {d}");
         }
     }
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
             assert_eq!(sc.mc.filters[f].violations, 0, "{}/{}", sc.name, spec.name);
@@ -226,7 +226,7 @@ fn regression_rls_and_its_hinf_version() {
 #[test]
 fn generalized_h2_norm_of_every_filter() {
     let exp = crate::common::load("hinf_tradeoff", 10);
-    let filters = filterbench::run::design_all(&exp).unwrap();
+    let filters = filterbench::pipeline::design_all(&exp).unwrap();
     let h2 = exp.filter_index("h2").unwrap();
     let level = filters[h2].design.diagnostics["h2_level"].as_f64().unwrap();
     let own = filters[h2].generalized_h2_sq.unwrap();

@@ -1,11 +1,11 @@
 //! The Kalman family against an independent implementation of the seeds' equations, and against
 //! mis-specified or perturbed versions of itself.
 
-use filterbench::exact;
+use filterbench::analysis::exact;
 use filterbench::families::kalman::kalman;
-use filterbench::linalg::Mat;
-use filterbench::run;
-use filterbench::spec::Pattern;
+use filterbench::model::plant::Pattern;
+use filterbench::numerics::linalg::Mat;
+use filterbench::pipeline;
 
 use crate::common;
 
@@ -46,7 +46,7 @@ fn matches_seed_000_equations_in_both_forms() {
 #[test]
 fn correctly_specified_beats_misspecified() {
     let exp = common::baseline(10);
-    let filters = run::design_all(&exp).unwrap();
+    let filters = pipeline::design_all(&exp).unwrap();
     let j: Vec<f64> =
         filters.iter().map(|f| exact::error(&exp.plant, &f.design.realization, &exp.nominal).total).collect();
     assert_eq!(exp.filters[0].name, "kalman_nominal");

@@ -1,9 +1,9 @@
 //! Seed 001: Markov-jump plants and the mode-dependent, steady-state and common-gain predictors.
 use crate::common::Patch;
 
+use filterbench::config::{self, Experiment};
 use filterbench::families::markov_jump;
-use filterbench::linalg::Mat;
-use filterbench::spec::{self, Experiment};
+use filterbench::numerics::linalg::Mat;
 
 use crate::common;
 
@@ -40,16 +40,16 @@ fn common_gain_gradient_matches_finite_differences() {
 /// realization's own output/advance (so the mode sequence and the noise are exactly the engine's).
 fn per_mode_mc(
     exp: &Experiment,
-    real: &filterbench::realization::Realization,
+    real: &filterbench::filter::realization::Realization,
     trials: u64,
-) -> Vec<filterbench::stats::Welford> {
-    use filterbench::linalg::Vector;
-    use filterbench::noise::{NoiseSampler, trial_rng};
+) -> Vec<filterbench::sim::stats::Welford> {
+    use filterbench::numerics::linalg::Vector;
+    use filterbench::sim::noise::{NoiseSampler, trial_rng};
     let p = &exp.plant;
     let sampler = NoiseSampler::new(p, &exp.nominal, &exp.scenarios[0].shape);
     let mut draw = sampler.workspace();
     let q = p.n_modes();
-    let mut acc = vec![filterbench::stats::Welford::default(); q];
+    let mut acc = vec![filterbench::sim::stats::Welford::default(); q];
     let (mut y, mut z, mut zhat) = (Vector::zeros(p.ny()), Vector::zeros(p.nz()), Vector::zeros(p.nz()));
     for t in 0..trials {
         sampler.draw_into(&mut trial_rng(exp.seed, 0, t), &mut draw);
@@ -90,10 +90,10 @@ fn per_mode_mc(
 fn exact_per_mode_moments_agree_with_monte_carlo() {
     for v in ["slow_chain", "fast_chain"] {
         let exp = common::variant("markov_jump", v, 100);
-        let out = filterbench::run::design_all(&exp).unwrap();
+        let out = filterbench::pipeline::design_all(&exp).unwrap();
         for (f, d) in out.iter().enumerate() {
             let real = &d.design.realization;
-            let exact = filterbench::exact::error(&exp.plant, real, &exp.nominal);
+            let exact = filterbench::analysis::exact::error(&exp.plant, real, &exp.nominal);
             let mc = per_mode_mc(&exp, real, 6000);
             for (j, w) in mc.iter().enumerate() {
                 let z = (w.mean - exact.per_mode[j]) / w.std_error();
@@ -113,16 +113,17 @@ fn exact_per_mode_moments_agree_with_monte_carlo() {
 fn one_mode_is_the_kalman_predictor() {
     let text = crate::common::SHAPES_TOML.patch("PATTERN", "prediction")
         + "\n[modes]\ntransition = [[1.0]]\n[[modes.mode]]\nname = \"only\"\n";
-    let exp = spec::parse("one_mode", "one_mode.toml", &text).unwrap();
+    let exp = config::parse("one_mode", "one_mode.toml", &text).unwrap();
     let (mj, predicted) = markov_jump::finite(&exp.plant, &exp.nominal);
-    let kf = filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::spec::Pattern::Prediction);
+    let kf =
+        filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::model::plant::Pattern::Prediction);
     for k in 0..exp.plant.steps() {
         let (a, b) = (mj.gains(k, 0), &kf.steps[k]);
         // Equal up to the order of floating-point operations.
         assert!((&a.bf - &b.bf).amax() <= 1e-12 * b.bf.amax().max(1.0), "step {k}: K");
         assert!((&a.af - &b.af).amax() <= 1e-12 * b.af.amax().max(1.0), "step {k}: A − KC");
     }
-    let exact = filterbench::exact::error(&exp.plant, &mj, &exp.nominal).total;
+    let exact = filterbench::analysis::exact::error(&exp.plant, &mj, &exp.nominal).total;
     assert!((exact - predicted).abs() <= 1e-9 * exact);
 }
 
@@ -130,10 +131,10 @@ fn one_mode_is_the_kalman_predictor() {
 fn mode_dependent_beats_common_gain_beats_mode_averaged_kalman() {
     for v in ["slow_chain", "fast_chain"] {
         let exp = common::variant("markov_jump", v, 100);
-        let out = filterbench::run::design_all(&exp).unwrap();
+        let out = filterbench::pipeline::design_all(&exp).unwrap();
         let exact = |name: &str| {
             let i = exp.filter_index(name).unwrap();
-            filterbench::exact::error(&exp.plant, &out[i].design.realization, &exp.nominal).total
+            filterbench::analysis::exact::error(&exp.plant, &out[i].design.realization, &exp.nominal).total
         };
         let (md, st, cg, ka) = (
             exact("mode_dependent"),
@@ -156,7 +157,7 @@ fn steady_gains_need_an_ergodic_chain() {
         "transition = [[0.9, 0.08, 0.02], [0.08, 0.9, 0.02], [0.1, 0.1, 0.8]]",
         "transition = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\ninitial = [0.5, 0.3, 0.2]",
     );
-    let exp = spec::parse("reducible", "reducible.toml", &text).unwrap();
-    let err = filterbench::run::design_all(&exp).err().expect("steady gains refused").to_string();
+    let exp = config::parse("reducible", "reducible.toml", &text).unwrap();
+    let err = filterbench::pipeline::design_all(&exp).err().expect("steady gains refused").to_string();
     assert!(err.contains("not ergodic"), "{err}");
 }

@@ -1,12 +1,12 @@
 //! The minimax family (seed 000): Example 3's printed numbers, the saddle point, an independent
 //! maximization of the dual functional, and the guarantee under Monte Carlo.
 
+use filterbench::config::{self, Experiment};
 use filterbench::families::minimax::{dual_gradient, dual_solve, dual_value};
-use filterbench::linalg::{Mat, frob_dot, min_eigenvalue};
-use filterbench::plant::Covariances;
-use filterbench::run;
-use filterbench::spec::{self, Experiment};
-use filterbench::uncertainty::SetShape;
+use filterbench::model::plant::Covariances;
+use filterbench::model::uncertainty::SetShape;
+use filterbench::numerics::linalg::{Mat, frob_dot, min_eigenvalue};
+use filterbench::pipeline;
 
 fn load(name: &str, trials: usize) -> Experiment {
     crate::common::load(name, trials)
@@ -70,7 +70,7 @@ fn example3_reproduces_the_printed_numbers() {
 fn saddle_point_and_smallest_worst_case() {
     for name in ["minimax_example3", "minimax_example2", "minimax_example4", "minimax_box"] {
         let exp = load(name, 10);
-        let filters = run::design_all(&exp).unwrap();
+        let filters = pipeline::design_all(&exp).unwrap();
         let m = exp.filter_index("minimax").unwrap();
         let d = &filters[m].design;
         let k_hat = d.design_covariance.as_ref().unwrap();
@@ -135,7 +135,7 @@ fn agrees_with_projected_gradient_ascent() {
 fn guarantee_holds_under_monte_carlo() {
     for name in ["minimax_box", "minimax_example3"] {
         let exp = load(name, 4000);
-        let out = run::run(&exp, false).unwrap();
+        let out = pipeline::run(&exp, false).unwrap();
         let m = exp.filter_index("minimax").unwrap();
         let bound = out.filters[m].design.guarantee.as_ref().unwrap().total;
         for sc in &out.scenarios {
@@ -169,7 +169,7 @@ fn largest_element_of_loewner_intervals() {
     let sets_end = text.find("[[filters]]").unwrap();
     let loewner = "[sets.process]\nkind = \"loewner\"\nlower = [[0.8, -0.4, 0.2], [-0.4, 0.6, 0.1], [0.2, 0.1, 0.5]]\nupper = [[1.1, -0.4, 0.2], [-0.4, 0.9, 0.1], [0.2, 0.1, 0.8]]\n\n[sets.measurement]\nkind = \"loewner\"\nlower = [[0.4, 0, 0], [0, 0.7, 0], [0, 0, 0.05]]\nupper = [[0.7, 0.1, 0], [0.1, 0.9, 0], [0, 0, 0.2]]\n\n";
     let t = format!("{}{}{}", &text[..sets_start], loewner, &text[sets_end..]);
-    let exp = spec::parse("loewner", "loewner.toml", &t).unwrap();
+    let exp = config::parse("loewner", "loewner.toml", &t).unwrap();
     let sol = dual_solve(&exp.plant, exp.pattern, &exp.sets, exp.nominal.clone(), 1e-12, 100).unwrap();
     assert!(sol.largest_element && sol.trace.len() == 1);
     let upper = |i: usize| match &exp.sets[i].as_ref().unwrap().shape {
@@ -218,7 +218,7 @@ fn scalar_minimax(
 fn examples_1_and_5_in_closed_form() {
     for (name, ru, rv, p0) in [("minimax_example1", 0.0, 0.0, 1.0), ("minimax_example5", 0.4, 0.3, 0.0)] {
         let exp = load(name, 10);
-        let filters = run::design_all(&exp).unwrap();
+        let filters = pipeline::design_all(&exp).unwrap();
         let m = exp.filter_index("minimax").unwrap();
         let d = &filters[m].design;
         let k_hat = d.design_covariance.as_ref().unwrap();
@@ -246,7 +246,7 @@ fn examples_1_and_5_in_closed_form() {
 #[test]
 fn example2_worst_covariance_to_the_printed_digits() {
     let exp = load("minimax_example2", 10);
-    let filters = run::design_all(&exp).unwrap();
+    let filters = pipeline::design_all(&exp).unwrap();
     let m = exp.filter_index("minimax").unwrap();
     let k = filters[m].design.design_covariance.as_ref().unwrap();
     let names = exp.plant.block_names();
@@ -284,7 +284,7 @@ fn theorem_1_2b_condition_is_checked() {
     use filterbench::families::minimax::observation_covariance_min_eigenvalue;
     for name in ["minimax_example2", "minimax_example3", "minimax_box", "minimax_example1"] {
         let exp = load(name, 10);
-        let filters = run::design_all(&exp).unwrap();
+        let filters = pipeline::design_all(&exp).unwrap();
         let d = &filters[exp.filter_index("minimax").unwrap()].design.diagnostics;
         let which = d["theorem_1_2"].as_str().unwrap();
         let rz = d["rz_min_eigenvalue"].as_f64().unwrap();

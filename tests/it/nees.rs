@@ -1,7 +1,7 @@
 //! NEES, the consistency of a filter with its own claimed covariance (issue 14 §3): exact from the
 //! moments, empirical from Monte Carlo with its interval.
 
-use filterbench::run;
+use filterbench::pipeline;
 
 /// At its design covariance a Kalman filter is consistent: the exact NEES is 1 at every step where
 /// it claims an error (a deterministic identity, to rounding), and the claimed moments' trace is
@@ -10,7 +10,7 @@ use filterbench::run;
 #[test]
 fn kalman_is_consistent_at_its_design_covariance_and_monte_carlo_agrees() {
     let exp = crate::common::baseline(6000);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let k = exp.filter_index("kalman_nominal").unwrap();
     let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
     let exact = nominal.nees_exact[k].as_ref().expect("a Kalman filter has NEES");
@@ -51,7 +51,7 @@ fn kalman_is_consistent_at_its_design_covariance_and_monte_carlo_agrees() {
 #[test]
 fn a_misspecified_kalman_filter_is_overconfident() {
     let exp = crate::common::baseline(200);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let k = exp.filter_index("kalman_wrong").unwrap();
     let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
     let exact = nominal.nees_exact[k].as_ref().unwrap();
@@ -60,10 +60,10 @@ fn a_misspecified_kalman_filter_is_overconfident() {
     assert!(avg > 2.0, "over-confident: average NEES {avg}");
     let d = &out.filters[k];
     let cov = d.design.design_covariance.as_ref().unwrap();
-    let at = |p: &filterbench::plant::Plant, r: &filterbench::realization::Realization| {
-        Ok(filterbench::exact::error(p, r, cov))
+    let at = |p: &filterbench::model::plant::Plant, r: &filterbench::filter::realization::Realization| {
+        Ok(filterbench::analysis::exact::error(p, r, cov))
     };
-    let m = filterbench::nees::error_moments(&exp.plant, &d.design.realization, &at).unwrap();
+    let m = filterbench::analysis::nees::error_moments(&exp.plant, &d.design.realization, &at).unwrap();
     for (step, (mk, c)) in m.iter().zip(&d.claimed.as_ref().unwrap().per_step).enumerate() {
         assert!((mk.trace() - c).abs() <= 1e-9 * c.abs().max(1.0), "step {step}: tr {} vs claimed {c}", mk.trace());
     }

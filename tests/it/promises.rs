@@ -3,7 +3,7 @@
 //! that fits 80 columns and says "exact" instead of dividing by a zero standard error.
 use crate::common::Patch;
 
-use filterbench::{report, run};
+use filterbench::{pipeline, report};
 
 /// A Kalman filter's error at its design covariance is its belief: `claimed` in every scenario,
 /// `guaranteed` in none; where the scenario's covariance is the design one, exact = claimed
@@ -11,7 +11,7 @@ use filterbench::{report, run};
 #[test]
 fn kalman_claims_but_does_not_guarantee() {
     let exp = crate::common::baseline(200);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let k = exp.filter_index("kalman_nominal").unwrap();
     let claimed = out.filters[k].claimed.as_ref().expect("a Kalman filter has a design P");
     let g = out.filters[k].design.guarantee.as_ref().unwrap();
@@ -32,7 +32,7 @@ fn kalman_claims_but_does_not_guarantee() {
 #[test]
 fn minimax_keeps_its_guarantee_inside_its_sets() {
     let exp = crate::common::load("minimax_box", 50);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let m = exp.filter_index("minimax").unwrap();
     let bound = out.filters[m].design.guarantee.as_ref().unwrap().total;
     for sc in &out.scenarios {
@@ -49,7 +49,7 @@ fn minimax_keeps_its_guarantee_inside_its_sets() {
 fn tables_carry_claimed_and_consistency() {
     use polars::prelude::*;
     let exp = crate::common::baseline(100);
-    let out = run::run(&exp, false).unwrap();
+    let out = pipeline::run(&exp, false).unwrap();
     let tmp = crate::common::TempDir::new();
     report::parquet::write_tables(&[(&exp, &out)], tmp.path()).unwrap();
     let read = |f: &str| ParquetReader::new(std::fs::File::open(tmp.path().join(f)).unwrap()).finish().unwrap();
@@ -76,9 +76,9 @@ fn tables_carry_claimed_and_consistency() {
 fn console_fits_80_columns_and_says_exact_for_deterministic_inputs() {
     let text =
         crate::common::text("hinf_tradeoff").patch("\"kalman_predictor\"", "\"kalman_predictor_with_a_long_name\"");
-    let exp = filterbench::spec::parse("hinf_tradeoff", "h.toml", &text).unwrap();
-    let exp = filterbench::spec::Experiment { trials: 50, ..exp };
-    let out = run::run(&exp, false).unwrap();
+    let exp = filterbench::config::parse("hinf_tradeoff", "h.toml", &text).unwrap();
+    let exp = filterbench::config::Experiment { trials: 50, ..exp };
+    let out = pipeline::run(&exp, false).unwrap();
     let table = report::console::table(&exp, &out);
     let mut deterministic = 0;
     for line in table.lines() {
@@ -98,7 +98,7 @@ fn console_fits_80_columns_and_says_exact_for_deterministic_inputs() {
 fn minimax_bound_with_two_disturbance_blocks_is_no_promise() {
     for (name, promised) in [("minimax_energy", false), ("minimax_example5", false)] {
         let exp = crate::common::load(name, 20);
-        let out = run::run(&exp, false).unwrap();
+        let out = pipeline::run(&exp, false).unwrap();
         let m = exp.filter_index("minimax").unwrap();
         let blocks = exp.disturbances.iter().filter(|d| d.is_some()).count();
         for sc in &out.scenarios {

@@ -5,8 +5,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::BufReader;
 
+use filterbench::config;
 use filterbench::report::recording::{self, style};
-use filterbench::spec;
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 use rerun::{ComponentIdentifier, StoreKind};
@@ -116,12 +116,12 @@ fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_fil
     assert!(names.len() >= 11, "the shipped experiments: {names:?}");
     let tmp = crate::common::TempDir::new();
     for name in &names {
-        let mut exps = spec::load_variants(&dir.join(format!("{name}.toml"))).expect("parses");
+        let mut exps = config::load_variants(&dir.join(format!("{name}.toml"))).expect("parses");
         for e in &mut exps {
             e.trials = 40;
             e.sample_trajectories = e.sample_trajectories.min(2);
         }
-        let outs: Vec<_> = exps.iter().map(|e| filterbench::run::run(e, false).expect("runs")).collect();
+        let outs: Vec<_> = exps.iter().map(|e| filterbench::pipeline::run(e, false).expect("runs")).collect();
         let runs: Vec<_> = exps.iter().zip(&outs).collect();
         let path = tmp.path().join(format!("{name}.rrd"));
         recording::write(&runs, &path).expect("writes");

@@ -1,7 +1,7 @@
 //! The clarabel helper against closed forms.
 
-use filterbench::linalg::Mat;
-use filterbench::solve::sdp::{SymConstraints, max_linear};
+use filterbench::numerics::linalg::Mat;
+use filterbench::numerics::solve::sdp::{SymConstraints, max_linear};
 
 #[test]
 fn box_and_ball_without_psd_match_their_closed_forms() {
@@ -9,10 +9,10 @@ fn box_and_ball_without_psd_match_their_closed_forms() {
     let c = Mat::from_row_slice(3, 3, &[1.0, 0.1, 0.0, 0.1, 2.0, 0.2, 0.0, 0.2, 1.5]);
     let h = Mat::from_element(3, 3, 0.1);
     let bx = max_linear(&g, 3, &SymConstraints { bounds: Some((&c - &h, &c + &h)), ..Default::default() }).unwrap();
-    let closed = filterbench::linalg::frob_dot(&g, &c) + g.abs().sum() * 0.1;
+    let closed = filterbench::numerics::linalg::frob_dot(&g, &c) + g.abs().sum() * 0.1;
     assert!((bx.value - closed).abs() < 1e-7 * closed.abs(), "box {} vs {closed}", bx.value);
     let ball = max_linear(&g, 3, &SymConstraints { ball: Some((c.clone(), 0.3)), ..Default::default() }).unwrap();
-    let closed = filterbench::linalg::frob_dot(&g, &c) + 0.3 * g.norm();
+    let closed = filterbench::numerics::linalg::frob_dot(&g, &c) + 0.3 * g.norm();
     assert!((ball.value - closed).abs() < 1e-7 * closed.abs(), "ball {} vs {closed}", ball.value);
 }
 

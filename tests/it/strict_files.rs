@@ -7,7 +7,7 @@
 use std::process::Command;
 use std::time::Instant;
 
-use filterbench::spec;
+use filterbench::config;
 
 use super::output_safety::{refused, snapshot};
 
@@ -194,15 +194,15 @@ fn bare_kind_names_are_accepted_everywhere_a_kind_table_is() {
         "shape = { kind = \"laplace\" }",
         "shape = \"laplace\"",
     );
-    let a = spec::parse("t", "t.toml", &table).expect("tables parse");
-    let b = spec::parse("t", "t.toml", &bare).expect("bare names parse");
+    let a = config::parse("t", "t.toml", &table).expect("tables parse");
+    let b = config::parse("t", "t.toml", &bare).expect("bare names parse");
     for (x, y) in a.scenarios.iter().zip(&b.scenarios) {
         assert_eq!(x.shape, y.shape);
         assert_eq!(x.input, y.input);
         assert_eq!(x.disturbance, y.disturbance);
         assert_eq!(format!("{:?}", x.covariance), format!("{:?}", y.covariance));
     }
-    assert_eq!(b.scenarios[1].shape, filterbench::noise::Shape::Laplace);
+    assert_eq!(b.scenarios[1].shape, filterbench::model::shape::Shape::Laplace);
 }
 
 #[test]
@@ -211,7 +211,7 @@ fn a_coloured_input_below_white_noise_is_refused_before_any_design() {
     // With W = diag(4, 1/4) white noise has anisotropy 201 · A(W) ≈ 152 > 20, the first coloured level.
     let t = patch(&text, "w = [[1.0, 0.0], [0.0, 1.0]]", "w = [[4.0, 0.0], [0.0, 0.25]]");
     // The parser alone refuses it: no filter is designed to find out.
-    let err = spec::parse("aniso_dropout", "a.toml", &t).err().expect("refused by the parser").to_string();
+    let err = config::parse("aniso_dropout", "a.toml", &t).err().expect("refused by the parser").to_string();
     assert!(err.contains("scenarios.coloured_design.input.anisotropy (scenarios[1])"), "{err}");
     assert!(err.contains("white noise"), "{err}");
     let start = Instant::now();
@@ -243,9 +243,9 @@ fn trial_counts_are_bounded_and_memory_is_estimated_before_the_run() {
 fn sample_trajectories_follows_one_rule_from_the_file_and_from_trials() {
     let t = patch(&baseline(), "sample_trajectories = 3", "sample_trajectories = 50");
     let t = patch(&t, "trials = 20000", "trials = 20");
-    let e = spec::parse("t", "t.toml", &t).expect("more trajectories than trials is capped, not refused");
+    let e = config::parse("t", "t.toml", &t).expect("more trajectories than trials is capped, not refused");
     assert_eq!(e.sample_trajectories, 20);
-    assert_eq!(spec::sample_count(3, 2), 2, "--trials 2 caps the same way");
+    assert_eq!(config::sample_count(3, 2), 2, "--trials 2 caps the same way");
 }
 
 /// The names serde lists after "expected" in an error message (`a`, `b` or one of `a`, `b`).
@@ -260,7 +260,7 @@ fn listed(message: &str) -> Vec<String> {
 
 /// A [`Kinds`] list agrees with the enum it describes: the same kinds, and for each kind the keys
 /// its variant takes (read from serde's own messages, so a variant added without its entry fails).
-fn kinds_match_the_enum<T: filterbench::kind::Kinds>() {
+fn kinds_match_the_enum<T: filterbench::model::kind::Kinds>() {
     let probe =
         |table: &str| T::deserialize(toml::from_str::<toml::Value>(table).unwrap()).err().map(|e| e.to_string());
     let mut kinds: Vec<String> = T::KINDS.iter().map(|(k, _)| k.to_string()).collect();
@@ -279,7 +279,7 @@ fn kinds_match_the_enum<T: filterbench::kind::Kinds>() {
 
 #[test]
 fn every_kinds_list_matches_its_enum() {
-    kinds_match_the_enum::<filterbench::noise::Shape>();
-    kinds_match_the_enum::<filterbench::spec::Input<String>>();
-    kinds_match_the_enum::<filterbench::disturbance::DisturbanceChoice<String>>();
+    kinds_match_the_enum::<filterbench::model::shape::Shape>();
+    kinds_match_the_enum::<filterbench::config::Input<String>>();
+    kinds_match_the_enum::<filterbench::model::disturbance::DisturbanceChoice<String>>();
 }

@@ -9,10 +9,10 @@
 //! these plants); Monte Carlo within 4σ of exact (σ its standard error; the families of comparisons
 //! below are a few dozen, so a correct engine fails one with probability below 0.3 %).
 
-use filterbench::exact;
-use filterbench::linalg::Mat;
-use filterbench::run;
-use filterbench::spec::{self, Experiment, Pattern};
+use filterbench::analysis::exact;
+use filterbench::config::{self, Experiment, Pattern};
+use filterbench::numerics::linalg::Mat;
+use filterbench::pipeline;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Uniform};
 
@@ -138,7 +138,7 @@ shape = {{ kind = "laplace" }}
         x0 = matrix(&Mat::identity(n, n)),
         w = matrix(&Mat::identity(n + ny, n + ny)),
     );
-    spec::parse("unstable", "unstable.toml", &text).unwrap_or_else(|e| panic!("test plant parses: {e}"))
+    config::parse("unstable", "unstable.toml", &text).unwrap_or_else(|e| panic!("test plant parses: {e}"))
 }
 
 /// A random n×n matrix with spectral radius `rho`, and a random ny×n measurement matrix.
@@ -170,7 +170,7 @@ fn seed000_plant_with_a_1_5_matches_joseph_riccati_and_monte_carlo() {
     exp.plant.a = Mat::identity(3, 3) * 1.5;
     exp.plant.horizon = 50;
     let reference = joseph_kalman(&exp);
-    let filters = run::design_all(&exp).expect("designs");
+    let filters = pipeline::design_all(&exp).expect("designs");
     let ours = exact::error(&exp.plant, &filters[0].design.realization, &exp.nominal);
     assert!(
         relative(ours.total, reference) <= 1e-8,
@@ -192,7 +192,7 @@ fn a_10_and_a_long_horizon_stay_finite_and_exact() {
         exp.plant.a = Mat::identity(3, 3) * rho;
         exp.plant.horizon = horizon;
         let reference = joseph_kalman(&exp);
-        let filters = run::design_all(&exp).expect("designs");
+        let filters = pipeline::design_all(&exp).expect("designs");
         let ours = exact::error(&exp.plant, &filters[0].design.realization, &exp.nominal);
         assert!(
             relative(ours.total, reference) <= 1e-8,
@@ -219,7 +219,7 @@ fn random_unstable_plants_without_dropouts() {
         let (a, c) = random_plant(&mut rng, n, ny, rho);
         let filters = "[[filters]]\nname = \"kalman\"\nfamily = \"kalman\"\n";
         let exp = experiment(&a, &c, horizon, pattern, None, filters);
-        let real = &run::design_all(&exp).expect("designs")[0].design.realization;
+        let real = &pipeline::design_all(&exp).expect("designs")[0].design.realization;
         let reference = joseph_kalman(&exp);
         let ours = exact::error(&exp.plant, real, &exp.nominal).total;
         worst = worst.max(within_1e8(
@@ -253,7 +253,7 @@ fn random_unstable_plants_with_dropouts_resolved_or_refused() {
         // The predictor that sees the dropouts tracks the plant in both modes: exact equals the
         // Riccati recursion and Monte Carlo agrees.
         let exp = experiment(&a, &c, horizon, "prediction", Some(arrival), tracking);
-        let designed = run::design_all(&exp).expect("designs");
+        let designed = pipeline::design_all(&exp).expect("designs");
         let reference = joseph_dropout_predictor(&exp);
         let ours = exact::error(&exp.plant, &designed[0].design.realization, &exp.nominal).total;
         let what = format!("case {case}: n = {n}, ρ(A) = {rho:.3}, N = {horizon}, p = {arrival:.3}");
@@ -275,7 +275,7 @@ fn random_unstable_plants_with_dropouts_resolved_or_refused() {
         // 200 000).
         let mut exp = experiment(&a, &c, horizon, "prediction", Some(arrival), ignoring);
         exp.trials = 100;
-        match run::run(&exp, false) {
+        match pipeline::run(&exp, false) {
             Ok(out) => {
                 for sc in &out.scenarios {
                     assert!(sc.exact[0].resolution.digits_lost <= exact::MAX_DIGITS_LOST);
@@ -309,7 +309,7 @@ fn error_coordinates_agree_with_the_reference_where_it_is_accurate() {
     // one must give the same numbers to rounding.
     for pattern in ["filtering", "prediction"] {
         let exp = common::shapes(pattern);
-        let real = &run::design_all(&exp).expect("designs")[0].design.realization;
+        let real = &pipeline::design_all(&exp).expect("designs")[0].design.realization;
         let reference = exact::error(&exp.plant, real, &exp.nominal);
         assert_eq!(reference.coordinates, exact::Coordinates::Plant);
         let ours = exact::error_in_error_coordinates(&exp.plant, real, &exp.nominal).expect("Kalman tracks x");
@@ -324,7 +324,7 @@ fn a_declared_m_that_does_not_hold_is_not_used() {
     // A filter that claims to track x but whose gains do not satisfy Af + Bf C − A = 0.
     let mut exp = common::baseline(10);
     exp.plant.a = Mat::identity(3, 3) * 1.5;
-    let mut real = run::design_all(&exp).expect("designs")[0].design.realization.clone();
+    let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
     real.steps[10].af[(0, 0)] += 1e-3;
     let why = exact::error_form(&exp.plant, &real).expect_err("the identity is checked");
     assert!(why.contains("step 10") && why.contains("Af M + Bf C − M A"), "{why}");
@@ -339,7 +339,7 @@ fn an_error_double_precision_cannot_resolve_is_refused_with_the_step_and_digits(
     let mut exp = common::baseline(10);
     exp.plant.a = Mat::identity(3, 3) * 1.5;
     exp.plant.horizon = 100;
-    let mut real = run::design_all(&exp).expect("designs")[0].design.realization.clone();
+    let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
     real.steps[1].af[(0, 0)] += 1e-7;
     let e = exact::error(&exp.plant, &real, &exp.nominal);
     let msg = e.trusted("perturbed").expect_err("refused").to_string();

@@ -15,7 +15,7 @@ use rerun::external::re_sdk_types::blueprint::components::{ContainerKind, Corner
 
 use super::blueprint::{Layout, Node, ViewKind};
 use super::{APP, Run, galerkin, promise, shown};
-use crate::run::ScenarioOutcome;
+use crate::pipeline::ScenarioOutcome;
 
 type BpResult<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
 

@@ -28,9 +28,9 @@ mod tables;
 
 use std::path::Path;
 
+use crate::config::Experiment;
 use crate::error::{Error, Result};
-use crate::run::{RunOutcome, ScenarioOutcome};
-use crate::spec::Experiment;
+use crate::pipeline::{RunOutcome, ScenarioOutcome};
 
 type RecResult = std::result::Result<(), Box<dyn std::error::Error + Send + Sync>>;
 

@@ -1,8 +1,8 @@
 //! The summed figures as Markdown tables (the viewer renders them in text views): one per scenario
 //! beside its plots, and all of a run's scenarios in the overview.
 
-use crate::run::{RunOutcome, ScenarioOutcome};
-use crate::spec::Experiment;
+use crate::config::Experiment;
+use crate::pipeline::{RunOutcome, ScenarioOutcome};
 
 /// Six significant figures, without the exponent unless the magnitude needs it.
 fn num(x: f64) -> String {

@@ -6,10 +6,10 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::joint::JointInput;
-use super::shape::{Shape, StandardDraw};
-use crate::linalg::{Mat, Vector, psd_factor};
-use crate::linop::LinOp;
-use crate::plant::{Covariances, Plant};
+use crate::model::plant::{Covariances, Plant};
+use crate::model::shape::{Shape, StandardDraw};
+use crate::numerics::linalg::{Mat, Vector, psd_factor};
+use crate::numerics::linop::LinOp;
 
 /// The random stream of one trial. It depends on (seed, scenario, trial) only, never on the thread
 /// that runs it, so results are identical for any thread count: the key is derived from the
@@ -39,7 +39,7 @@ pub struct NoiseSampler {
     /// Inputs drawn jointly over the horizon instead of block by block.
     joint: Option<JointInput>,
     /// The Markov chain of the plant's modes (dropouts included), drawn after the noise.
-    chain: Option<crate::plant::Modes>,
+    chain: Option<crate::model::plant::Modes>,
 }
 
 /// One trial's draws: the initial state and w[k] as column k of `w`.

@@ -5,12 +5,12 @@
 //! x0 and G that of w. Theorem 2.1: the worst deterministic gain over the ellipsoid ξᵀK⁻¹ξ ≤ 1 and
 //! the worst mean-square gain over unknown input covariances are both λmax(Ψ K Ψᵀ).
 
+use crate::analysis::exact::{Augmented, augmented};
 use crate::error::{Error, Result};
-use crate::exact::{Augmented, augmented};
-use crate::linalg::{Mat, Vector, block_diag, psd_factor, top_eigen};
-use crate::plant::{Covariances, Plant};
-use crate::realization::Realization;
-use crate::solve::conic::Conic;
+use crate::filter::realization::Realization;
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::linalg::{Mat, Vector, block_diag, psd_factor, top_eigen};
+use crate::numerics::solve::conic::Conic;
 
 /// What the last block of rows of Ψ holds.
 pub enum Terminal<'a> {
@@ -107,7 +107,7 @@ pub fn generalized_h2_norm_sq(plant: &Plant, real: &Realization, weights: &Covar
     let mut top: f64 = 0.0;
     for t in 0..plant.steps() {
         let at = a.rows(t * nz, nz);
-        let g = crate::linalg::symmetrize(&(at * at.transpose()));
+        let g = crate::numerics::linalg::symmetrize(&(at * at.transpose()));
         top = top.max(g.symmetric_eigenvalues().max());
     }
     Ok(top)
@@ -154,7 +154,7 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
         }
     }
     let r_inv = weights.x0().clone().try_inverse().ok_or_else(|| Error::invalid("hinf", "R must be invertible"))?;
-    let g_inv = crate::linalg::psd_pinv(&weights.w());
+    let g_inv = crate::numerics::linalg::psd_pinv(&weights.w());
     let s_half = psd_factor(s).transpose();
     let tri = n * (n + 1) / 2;
     let lam = nn * tri;

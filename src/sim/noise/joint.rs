@@ -7,7 +7,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal, Uniform};
 
-use crate::linalg::{Mat, Vector, psd_factor};
+use crate::numerics::linalg::{Mat, Vector, psd_factor};
 
 #[derive(Clone, Debug)]
 pub enum JointInput {
@@ -67,7 +67,7 @@ impl JointInput {
     pub fn draw<R: rand::Rng + ?Sized>(
         &self,
         rng: &mut R,
-        std: &super::shape::StandardDraw,
+        std: &crate::model::shape::StandardDraw,
         u: &mut Vector,
         xi: &mut Vector,
     ) {

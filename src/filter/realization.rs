@@ -8,9 +8,9 @@
 //! (step, mode) and at step k uses those of the mode θ[k] it observes.
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, Vector};
-use crate::plant::Plant;
-use crate::spec::Pattern;
+use crate::model::plant::Pattern;
+use crate::model::plant::Plant;
+use crate::numerics::linalg::{Mat, Vector};
 
 /// The gains of one step.
 #[derive(Clone, Debug)]
@@ -34,7 +34,7 @@ pub struct Realization {
     /// M: what the filter's state tracks, s[k] ≈ M x[k] (the identity for a state estimator), if
     /// the family declares it. The exact analysis and the Monte Carlo may then carry ε = s − M x
     /// instead of s, but only at steps and modes where they have checked that the realization
-    /// keeps ε independent of x ([`crate::exact::error_form`]).
+    /// keeps ε independent of x ([`crate::analysis::exact::error_form`]).
     pub tracks: Option<Mat>,
 }
 

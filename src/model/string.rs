@@ -19,8 +19,8 @@
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, Vector, block_diag, from_rows};
-use crate::plant::{Covariances, Plant};
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::linalg::{Mat, Vector, block_diag, from_rows};
 
 /// The `[string]` table of an experiment file.
 #[derive(Deserialize, Clone, Debug)]

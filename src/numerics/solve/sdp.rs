@@ -3,7 +3,7 @@
 //! intersected with {S ⪰ 0}). Variables are the upper-triangle entries s_ij (i ≤ j).
 
 use super::conic::Conic;
-use crate::linalg::{Mat, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize};
 
 /// Constraints on a symmetric n×n matrix S; every one that is `Some` applies.
 #[derive(Clone, Debug, Default)]
@@ -73,7 +73,7 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
         s[(j, i)] = sol.x[t];
     }
     Ok(LinearMax {
-        value: crate::linalg::frob_dot(&gs, &s),
+        value: crate::numerics::linalg::frob_dot(&gs, &s),
         argmax: s,
         iterations: sol.iterations,
         solve_seconds: sol.seconds,

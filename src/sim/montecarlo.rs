@@ -8,14 +8,14 @@
 
 use rayon::prelude::*;
 
-use crate::exact::ErrorForm;
-use crate::families::PerTrialBound;
-use crate::linalg::{Mat, Vector};
-use crate::linop::LinOp;
-use crate::noise::{NoiseSampler, TrialDraw, trial_rng};
-use crate::plant::Plant;
-use crate::realization::Realization;
-use crate::stats::Welford;
+use crate::analysis::exact::ErrorForm;
+use crate::filter::design::PerTrialBound;
+use crate::filter::realization::Realization;
+use crate::model::plant::Plant;
+use crate::numerics::linalg::{Mat, Vector};
+use crate::numerics::linop::LinOp;
+use crate::sim::noise::{NoiseSampler, TrialDraw, trial_rng};
+use crate::sim::stats::Welford;
 
 /// Trials per block: the unit of parallel work and of the fixed reduction order.
 pub const BLOCK: u64 = 64;
@@ -30,7 +30,7 @@ pub struct FilterStats {
     /// For a filter with a per-trial bound: the largest ratio seen and the trials at or above it.
     pub max_ratio: f64,
     pub violations: u64,
-    /// e[k]ᵀ W[k] e[k] at each step, for a filter with a claimed covariance ([`crate::nees`]);
+    /// e[k]ᵀ W[k] e[k] at each step, for a filter with a claimed covariance ([`crate::analysis::nees`]);
     /// empty otherwise (and at a step without a weight the accumulator stays empty).
     pub nees: Vec<Welford>,
 }
@@ -209,7 +209,7 @@ impl Workspace {
 /// Runs trial `trial`: draws its noise, simulates the plant, runs every filter on the same y, and
 /// calls `visit(k, f, z, ẑ, e)` for each step k and filter f, e = z − ẑ. A filter with an error
 /// form carries ε = s − M x instead of s and gets e from ε and w directly (seed-independent
-/// identity of [`crate::exact::error_form`]); its ẑ is then z − e, for display only.
+/// identity of [`crate::analysis::exact::error_form`]); its ẑ is then z − e, for display only.
 #[inline]
 pub fn run_trial(
     sc: &Scenario,

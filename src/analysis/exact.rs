@@ -20,10 +20,10 @@
 //! eq (27), computed as SPEC §2 recommends).
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, Vector, symmetrize};
-use crate::plant::{Covariances, Plant};
-use crate::realization::Realization;
-use crate::uncertainty::CovSet;
+use crate::filter::realization::Realization;
+use crate::model::plant::{Covariances, Plant};
+use crate::model::uncertainty::CovSet;
+use crate::numerics::linalg::{Mat, Vector, symmetrize};
 
 /// The augmented matrices F, E, H, G of step k in one mode (module docs), and the map from the
 /// known input r[k] to the state's shift c = R r (no columns when the plant has no known input).
@@ -739,6 +739,6 @@ pub fn worst_case(
             argmax.blocks[i] = s;
         }
     }
-    let psd = argmax.blocks.iter().all(crate::linalg::is_psd);
+    let psd = argmax.blocks.iter().all(crate::numerics::linalg::is_psd);
     Ok(Some(WorstCase { total, argmax, psd, disturbance: None }))
 }

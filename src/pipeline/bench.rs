@@ -4,18 +4,17 @@
 use std::fmt::Write;
 use std::time::Instant;
 
+use crate::config::Experiment;
 use crate::error::Result;
-use crate::montecarlo::{self, Workspace};
-use crate::noise::{NoiseSampler, trial_rng};
-use crate::run;
-use crate::spec::Experiment;
+use crate::sim::montecarlo::{self, Workspace};
+use crate::sim::noise::{NoiseSampler, trial_rng};
 
 pub fn run(exp: &Experiment) -> Result<String> {
-    let filters = run::design_all(exp)?;
-    let covs = run::scenario_covariances(exp, &filters)?;
+    let filters = super::design_all(exp)?;
+    let covs = super::scenario_covariances(exp, &filters)?;
     let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
     let sampler = NoiseSampler::new(&exp.plant, &exp.sampling(&covs[0]), &exp.scenarios[0].shape);
-    let ratios = run::ratio_check(exp, &filters);
+    let ratios = super::ratio_check(exp, &filters);
     let nees: Vec<_> = filters.iter().map(|f| f.nees_weights.clone()).collect();
     let sc = montecarlo::Scenario {
         plant: &exp.plant,

@@ -2,9 +2,9 @@
 //! run that cannot fit is refused at once with the figure and the key that drives it, instead of
 //! aborting after minutes with an allocation failure.
 
+use crate::config::{Experiment, Input};
 use crate::error::{Error, Result};
-use crate::montecarlo::BLOCK;
-use crate::spec::{Experiment, Input};
+use crate::sim::montecarlo::BLOCK;
 
 /// Bytes of one running mean/variance accumulator (n, mean, M2).
 const WELFORD: u64 = 24;

@@ -8,7 +8,7 @@
 //! (a → 0) to ‖F‖∞ = sqrt(λmax(Λ)) (a → ∞).
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, sym_eigen, symmetrize};
+use crate::numerics::linalg::{Mat, sym_eigen, symmetrize};
 
 /// A(W) = −½ ln det(m Σ / tr Σ) for W ~ N(0, Σ) (Σ positive definite).
 pub fn gaussian_anisotropy(sigma: &Mat) -> f64 {
@@ -92,9 +92,9 @@ pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> 
 
 /// Λ_w = E[𝓕ᵀ𝓕] of a realization's error system from W = col(w[0..N]) (lw = mw(N+1)) to the
 /// counted errors, x0 fixed at its mean and the known input set aside (seed 003 §2; exact with
-/// dropouts, [`crate::exact::second_moment_operator`]).
-pub fn error_gram(plant: &crate::plant::Plant, real: &crate::realization::Realization) -> Result<Mat> {
-    let full = crate::exact::second_moment_operator(plant, real)?;
+/// dropouts, [`crate::analysis::exact::second_moment_operator`]).
+pub fn error_gram(plant: &crate::model::plant::Plant, real: &crate::filter::realization::Realization) -> Result<Mat> {
+    let full = crate::analysis::exact::second_moment_operator(plant, real)?;
     let n = plant.nx();
     let lw = full.nrows() - n;
     Ok(full.view((n, n), (lw, lw)).into_owned())
@@ -103,8 +103,8 @@ pub fn error_gram(plant: &crate::plant::Plant, real: &crate::realization::Realiz
 /// A realization's exact a-anisotropic norm (SPEC §5) with the worst input covariance Σ(q) over
 /// W = col(w[0..N]) (tr Σ = lw).
 pub fn realization_norm(
-    plant: &crate::plant::Plant,
-    real: &crate::realization::Realization,
+    plant: &crate::model::plant::Plant,
+    real: &crate::filter::realization::Realization,
     a: f64,
 ) -> Result<(AnisotropicNorm, Mat)> {
     anisotropic_norm(&error_gram(plant, real)?, a)

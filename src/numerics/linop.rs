@@ -10,7 +10,7 @@ use nalgebra_sparse::CsrMatrix;
 use nalgebra_sparse::ops::Op;
 use nalgebra_sparse::ops::serial::spmm_csr_dense;
 
-use crate::linalg::Mat;
+use crate::numerics::linalg::Mat;
 
 /// Matrices with fewer entries than this stay dense whatever their sparsity.
 const SPARSE_MIN_ENTRIES: usize = 1024;

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::conic::Conic;
-use crate::linalg::Mat;
+use crate::numerics::linalg::Mat;
 
 /// Hands out consecutive variable indices.
 #[derive(Default)]

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 
-use crate::linalg::Mat;
+use crate::numerics::linalg::Mat;
 
 unsafe extern "C" {
     /// OpenBLAS's own switch (openblas_config.h); the symbol is in every OpenBLAS build that

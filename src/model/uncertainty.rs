@@ -8,8 +8,8 @@ use rand::Rng;
 use rand_distr::{Distribution, StandardNormal, Uniform};
 
 use crate::error::{Error, Result};
-use crate::linalg::{Mat, PSD_TOL, frob_dot, is_psd, min_eigenvalue, psd_factor, symmetrize};
-use crate::solve::sdp::{SymConstraints, max_linear};
+use crate::numerics::linalg::{Mat, PSD_TOL, frob_dot, is_psd, min_eigenvalue, psd_factor, symmetrize};
+use crate::numerics::solve::sdp::{SymConstraints, max_linear};
 
 #[derive(Clone, Debug)]
 pub enum SetShape {

@@ -1,21 +1,26 @@
 //! Runs one experiment end to end: design every filter, resolve every scenario's covariance, compute
 //! the exact and worst-case errors, run the Monte Carlo, and hand everything to the reports.
 
+pub mod bench;
+pub mod budget;
+
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::disturbance::{self, DisturbanceChoice};
+use crate::analysis::exact::{self, ExactError, WorstCase};
+use crate::config::{Experiment, InputChoice};
 use crate::error::{Error, Result};
-use crate::exact::{self, ExactError, WorstCase};
-use crate::families::{Design, registry};
-use crate::linalg::Mat;
-use crate::montecarlo::{self, McStats, Trajectory};
-use crate::noise::{JointInput, NoiseSampler, Shape};
-use crate::plant::{Covariances, Plant};
-use crate::realization::Realization;
-use crate::spec::{Experiment, InputChoice};
+use crate::filter::design::Design;
+use crate::filter::realization::Realization;
+use crate::model::choice::{CovChoice, check_point};
+use crate::model::disturbance::{self, DisturbanceChoice};
+use crate::model::plant::{Covariances, Plant};
+use crate::model::shape::Shape;
+use crate::numerics::linalg::Mat;
+use crate::sim::montecarlo::{self, McStats, Trajectory};
+use crate::sim::noise::{JointInput, NoiseSampler};
 
 /// A designed filter with its cost and its worst case over the experiment's uncertainty sets.
 pub struct DesignedFilter {
@@ -28,9 +33,9 @@ pub struct DesignedFilter {
     pub deterministic_error: f64,
     /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
     pub claimed: Option<Claimed>,
-    /// Its NEES weight per step, P_z[k]⁺ / rank, where it claims a covariance ([`crate::nees`]).
+    /// Its NEES weight per step, P_z[k]⁺ / rank, where it claims a covariance ([`crate::analysis::nees`]).
     pub nees_weights: Option<Vec<Option<Mat>>>,
-    /// Its generalized H2 norm² under the nominal weights ([`crate::hinf::generalized_h2_norm_sq`]);
+    /// Its generalized H2 norm² under the nominal weights ([`crate::analysis::hinf::generalized_h2_norm_sq`]);
     /// None on a switching plant or when the stacked operator would be too large.
     pub generalized_h2_sq: Option<f64>,
 }
@@ -44,7 +49,7 @@ fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
     if p.modes.is_some() || p.nx() + p.horizon * p.nw() > GENERALIZED_H2_MAX_INPUTS {
         return Ok(None);
     }
-    crate::hinf::generalized_h2_norm_sq(p, real, &exp.sampling(&exp.nominal)).map(Some)
+    crate::analysis::hinf::generalized_h2_norm_sq(p, real, &exp.sampling(&exp.nominal)).map(Some)
 }
 
 /// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
@@ -58,7 +63,7 @@ pub struct Claimed {
 }
 
 impl Claimed {
-    fn of(plant: &crate::plant::Plant, design: &Design) -> Option<Claimed> {
+    fn of(plant: &crate::model::plant::Plant, design: &Design) -> Option<Claimed> {
         let g = design.guarantee.as_ref().filter(|g| g.kind == "exact_at_design" || g.kind == "minimax")?;
         let total = g.per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
         Some(Claimed { total, per_step: g.per_step.clone() })
@@ -125,9 +130,10 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
     let designed: Vec<Result<DesignedFilter>> = exp
         .filters
         .par_iter()
-        .map(|f| {
+        .enumerate()
+        .map(|(i, f)| {
             let t = Instant::now();
-            let design = registry::design(exp, f)?;
+            let design = crate::families::design(f.configured.as_ref(), &exp.design_input(i))?;
             let seconds = t.elapsed().as_secs_f64();
             let worst = worst_case(exp, &design.realization)
                 .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
@@ -140,7 +146,7 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let nees_weights = match (&claimed, &design.design_covariance) {
                 (Some(_), Some(cov)) => {
                     let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
-                    Some(crate::nees::weights(&crate::nees::error_moments(
+                    Some(crate::analysis::nees::weights(&crate::analysis::nees::error_moments(
                         &exp.plant,
                         &design.realization,
                         &at_design,
@@ -174,9 +180,9 @@ pub struct AnisotropicFigures {
 }
 
 fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<AnisotropicFigures> {
-    let (mu, _) = crate::linalg::sym_eigen(&crate::anisotropy::error_gram(&exp.plant, real)?)?;
+    let (mu, _) = crate::numerics::linalg::sym_eigen(&crate::analysis::anisotropy::error_gram(&exp.plant, real)?)?;
     let mu: Vec<f64> = mu.into_iter().map(|m| m.max(0.0)).collect();
-    let norm = crate::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?;
+    let norm = crate::analysis::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?;
     Ok(AnisotropicFigures {
         norm_sq: norm.value.powi(2),
         h2_sq: mu.iter().sum::<f64>() / mu.len() as f64,
@@ -186,12 +192,12 @@ fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<A
 
 /// A filter's exact worst case over the experiment's uncertainty: covariances over their sets
 /// (disturbance blocks carry no covariance) and deterministic disturbances over their energy bounds
-/// ([`disturbance::worst`]), evaluated exactly at the joint maximizer. None if the experiment has
+/// ([`crate::analysis::disturbance::worst`]), evaluated exactly at the joint maximizer. None if the experiment has
 /// neither sets nor disturbances.
 pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCase>> {
     let center = exp.sampling(&exp.nominal);
     let sets = exact::worst_case(&exp.plant, real, &center, &exp.sets)?;
-    let dist = disturbance::worst(&exp.plant, real, &exp.disturbances)?;
+    let dist = crate::analysis::disturbance::worst(&exp.plant, real, &exp.disturbances)?;
     if sets.is_none() && dist.is_none() {
         return Ok(None);
     }
@@ -210,8 +216,8 @@ pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCa
 pub fn ratio_check<'a>(exp: &Experiment, filters: &'a [DesignedFilter]) -> Option<montecarlo::RatioCheck<'a>> {
     let bounds: Vec<_> = filters.iter().map(|f| f.design.per_trial.as_ref()).collect();
     bounds.iter().any(Option::is_some).then(|| montecarlo::RatioCheck {
-        x0_weight: crate::linalg::psd_pinv(exp.nominal.x0()),
-        w_weight: crate::linalg::psd_pinv(&exp.nominal.w()),
+        x0_weight: crate::numerics::linalg::psd_pinv(exp.nominal.x0()),
+        w_weight: crate::numerics::linalg::psd_pinv(&exp.nominal.w()),
         bounds,
     })
 }
@@ -219,33 +225,34 @@ pub fn ratio_check<'a>(exp: &Experiment, filters: &'a [DesignedFilter]) -> Optio
 /// The joint input of a scenario, if it has one, with the ellipsoid weighted by the nominal
 /// covariances K = blockdiag(x0, w, …, w) (seed 002).
 fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice) -> Result<Option<JointInput>> {
-    let k = || crate::hinf::input_weight(&exp.plant, &exp.sampling(&exp.nominal));
+    let k = || crate::analysis::hinf::input_weight(&exp.plant, &exp.sampling(&exp.nominal));
     Ok(match input {
         InputChoice::Independent => None,
         InputChoice::EllipsoidSurface => {
-            Some(JointInput::Ellipsoid { k_half: crate::linalg::psd_factor(&k()), surface: true })
+            Some(JointInput::Ellipsoid { k_half: crate::numerics::linalg::psd_factor(&k()), surface: true })
         }
         InputChoice::EllipsoidInterior => {
-            Some(JointInput::Ellipsoid { k_half: crate::linalg::psd_factor(&k()), surface: false })
+            Some(JointInput::Ellipsoid { k_half: crate::numerics::linalg::psd_factor(&k()), surface: false })
         }
         InputChoice::RandomCovariance { seed } => Some(JointInput::random_covariance(&k(), *seed)),
         InputChoice::EllipsoidWorstFor { filter } => {
             let d = &filters[*filter].design;
             let n = exp.plant.nx();
             let s = match &d.per_trial {
-                Some(crate::families::PerTrialBound::Ratio { terminal_weight, .. }) => terminal_weight.clone(),
+                Some(crate::filter::design::PerTrialBound::Ratio { terminal_weight, .. }) => terminal_weight.clone(),
                 _ => Mat::zeros(n, n),
             };
-            let (_, xi) = crate::hinf::norm(&exp.plant, &d.realization, &exp.sampling(&exp.nominal), &s)?;
+            let (_, xi) = crate::analysis::hinf::norm(&exp.plant, &d.realization, &exp.sampling(&exp.nominal), &s)?;
             Some(JointInput::Fixed { xi })
         }
         InputChoice::Coloured { anisotropy } => {
-            let (sigma, _) = crate::anisotropy::coloured_covariance(&exp.nominal.w(), exp.plant.steps(), *anisotropy)?;
+            let (sigma, _) =
+                crate::analysis::anisotropy::coloured_covariance(&exp.nominal.w(), exp.plant.steps(), *anisotropy)?;
             Some(anisotropic_input(exp, &sigma))
         }
         InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
             let real = &filters[*filter].design.realization;
-            let (_, sigma) = crate::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?;
+            let (_, sigma) = crate::analysis::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?;
             // Σ(q) has tr Σ = lw; give it the power of white nominal noise.
             let w = exp.nominal.w();
             Some(anisotropic_input(exp, &(sigma * (w.trace() / w.nrows() as f64))))
@@ -255,8 +262,10 @@ fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice
 
 /// J = col(x0 − E x0, w[0..N]) with x0 at its nominal covariance and W = col(w[0..N]) ~ (0, Σ).
 fn anisotropic_input(exp: &Experiment, sigma: &Mat) -> JointInput {
-    let factor =
-        crate::linalg::block_diag(&[&crate::linalg::psd_factor(exp.nominal.x0()), &crate::linalg::psd_factor(sigma)]);
+    let factor = crate::numerics::linalg::block_diag(&[
+        &crate::numerics::linalg::psd_factor(exp.nominal.x0()),
+        &crate::numerics::linalg::psd_factor(sigma),
+    ]);
     JointInput::Correlated { factor }
 }
 
@@ -289,7 +298,7 @@ fn input_statistics(
         None => {
             let w = cov.w();
             let power = steps as f64 * w.trace() + w_mean.map_or(0.0, |m| m.norm_squared());
-            let a = steps as f64 * crate::anisotropy::gaussian_anisotropy(&w);
+            let a = steps as f64 * crate::analysis::anisotropy::gaussian_anisotropy(&w);
             let a = (a.is_finite() && w_mean.is_none()).then_some(a);
             (power, a.and_then(|a| Some(a + correction(steps * p.nw())?)))
         }
@@ -300,7 +309,7 @@ fn input_statistics(
             let cw = c.view((n, n), (d, d)).into_owned();
             let power = cw.trace() + mean.rows(n, d).norm_squared();
             let full = d == steps * p.nw() && mean.rows(n, d).norm() == 0.0;
-            let a = crate::anisotropy::gaussian_anisotropy(&cw);
+            let a = crate::analysis::anisotropy::gaussian_anisotropy(&cw);
             let a = (full && a.is_finite()).then_some(a);
             let a = match j {
                 JointInput::Correlated { factor } if *shape != Shape::Gaussian => {
@@ -315,10 +324,32 @@ fn input_statistics(
 }
 
 /// Resolves the concrete covariance of every scenario (a worst case needs the designed filter).
+/// The covariances a scenario's choice names; `worst_for` and `design_of` read the designed filters.
+fn covariance_of(choice: &CovChoice, key: &str, exp: &Experiment, filters: &[DesignedFilter]) -> Result<Covariances> {
+    let cov = match choice.point(&exp.nominal, &exp.sets)? {
+        Some(c) => c,
+        None => match choice {
+            CovChoice::WorstFor { filter } => filters[*filter]
+                .worst
+                .as_ref()
+                .map(|w| w.argmax.clone())
+                .ok_or_else(|| Error::invalid(key, "no uncertainty set"))?,
+            CovChoice::DesignOf { filter } => filters[*filter]
+                .design
+                .design_covariance
+                .clone()
+                .ok_or_else(|| Error::invalid(key, "that filter was not designed at a covariance"))?,
+            _ => unreachable!("CovChoice::point names every choice but these two"),
+        },
+    };
+    check_point(key, &choice.label(|i| exp.filters[i].name.as_str()), &exp.plant, &cov)?;
+    Ok(cov)
+}
+
 pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Result<Vec<Covariances>> {
     exp.scenarios
         .iter()
-        .map(|s| s.covariance.covariances(&format!("scenarios.{}.covariance", s.name), exp, Some(filters)))
+        .map(|s| covariance_of(&s.covariance, &format!("scenarios.{}.covariance", s.name), exp, filters))
         .collect()
 }
 
@@ -349,7 +380,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
     let filters = design_all(exp)?;
     let design_seconds = start.elapsed().as_secs_f64();
     let covs = scenario_covariances(exp, &filters)?;
-    let reals: Vec<&crate::realization::Realization> = filters.iter().map(|f| &f.design.realization).collect();
+    let reals: Vec<&crate::filter::realization::Realization> = filters.iter().map(|f| &f.design.realization).collect();
     let ratios = ratio_check(exp, &filters);
     let ops = montecarlo::PlantOps::new(&exp.plant);
     let nees_weights: Vec<_> = filters.iter().map(|f| f.nees_weights.clone()).collect();
@@ -434,8 +465,8 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             .map(|(f, spec)| match &f.nees_weights {
                 Some(w) => {
                     let trusted = |p: &Plant, r: &Realization| exact_of(p, r)?.trusted(&spec.name);
-                    let m = crate::nees::error_moments(&exp.plant, &f.design.realization, &trusted)?;
-                    Ok(Some(crate::nees::exact(w, &m)))
+                    let m = crate::analysis::nees::error_moments(&exp.plant, &f.design.realization, &trusted)?;
+                    Ok(Some(crate::analysis::nees::exact(w, &m)))
                 }
                 None => Ok(None),
             })
@@ -445,7 +476,9 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
             InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
                 format!("anisotropic_worst_for({}, a={anisotropy})", exp.filters[*filter].name)
             }
-            _ => joint.as_ref().map_or_else(|| s.covariance.label(exp), |j| j.label().to_string()),
+            _ => joint
+                .as_ref()
+                .map_or_else(|| s.covariance.label(|i| exp.filters[i].name.as_str()), |j| j.label().to_string()),
         };
         let (input_power, input_anisotropy) = input_statistics(exp, &cov, &s.shape, w_mean.as_ref(), joint.as_ref());
         scenarios.push(ScenarioOutcome {

@@ -9,15 +9,15 @@
 //! a known mean (x0, a deterministic disturbance) is an error the filter should have removed.
 //!
 //! E[e eᵀ] per step comes from the exact per-step mean-square error (the moment recursions of
-//! [`crate::exact`], unchanged) of scalar outputs uᵀz: of e_i for every i and of e_i + e_j for
+//! [`crate::analysis::exact`], unchanged) of scalar outputs uᵀz: of e_i for every i and of e_i + e_j for
 //! i < j, by polarization. That is nz(nz+1)/2 exact evaluations, cheap for the few outputs these
 //! filters estimate.
 
+use crate::analysis::exact::ExactError;
 use crate::error::Result;
-use crate::exact::ExactError;
-use crate::linalg::{Mat, PSD_TOL};
-use crate::plant::Plant;
-use crate::realization::Realization;
+use crate::filter::realization::Realization;
+use crate::model::plant::Plant;
+use crate::numerics::linalg::{Mat, PSD_TOL};
 
 /// The plant and filter seen through the output uᵀz (one row).
 fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
@@ -69,10 +69,10 @@ pub fn weights(claimed: &[Mat]) -> Vec<Option<Mat>> {
     claimed
         .iter()
         .map(|p| {
-            let eig = nalgebra::SymmetricEigen::new(crate::linalg::symmetrize(p));
+            let eig = nalgebra::SymmetricEigen::new(crate::numerics::linalg::symmetrize(p));
             let top = eig.eigenvalues.amax();
             let rank = eig.eigenvalues.iter().filter(|l| **l > PSD_TOL * top && **l > 0.0).count();
-            (rank > 0).then(|| crate::linalg::psd_pinv(p) / rank as f64)
+            (rank > 0).then(|| crate::numerics::linalg::psd_pinv(p) / rank as f64)
         })
         .collect()
 }

@@ -18,7 +18,15 @@
 //! every row of Π equal to (1 − p, p). Equivalently C[k] = p C + (λ[k] − p) C, the multiplicative
 //! noise form the anisotropic family is written in.
 
-use crate::linalg::{Mat, Vector, block_diag};
+use crate::numerics::linalg::{Mat, Vector, block_diag};
+
+/// Information pattern (SPEC §0): filtering lets ẑ[k] use y[k]; prediction uses y[0..k-1] only.
+#[derive(Clone, Copy, Debug, serde::Deserialize, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Pattern {
+    Filtering,
+    Prediction,
+}
 
 #[derive(Clone, Debug)]
 pub struct Plant {

@@ -1,0 +1,8 @@
+//! Layer 4, analysis of a realization on a plant: exact error moments, worst cases over sets,
+//! operator norms (H∞, generalized H2), anisotropy, NEES.
+
+pub mod anisotropy;
+pub mod disturbance;
+pub mod exact;
+pub mod hinf;
+pub mod nees;

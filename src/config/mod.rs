@@ -1,0 +1,267 @@
+//! Layer 7, the experiment file: its schema ([`schema`]), its validation into a resolved
+//! [`Experiment`] ([`resolve`]; every error names the offending key), its variants and sweeps.
+//! Every key is documented in docs/experiment-files.md.
+
+mod resolve;
+mod schema;
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+pub use crate::model::choice::{CovChoice, CovChoiceFile};
+use crate::model::disturbance::{Disturbance, DisturbanceChoice};
+pub use crate::model::plant::Pattern;
+use crate::model::plant::{Covariances, Plant};
+use crate::model::shape::Shape;
+use crate::model::uncertainty::CovSet;
+use resolve::{deserialize, resolve_file};
+use schema::ExperimentFile;
+
+/// How a scenario's inputs are drawn: block by block and white in time (the default), or jointly
+/// over the horizon as ξ = col(x0 − E x0, w[0..N−1]) (seed 002's setting; w[N] = 0). `F` refers to
+/// a filter: its name as written in the file, its index once resolved.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Input<F> {
+    #[default]
+    Independent,
+    /// Uniform on the surface of the ellipsoid ξᵀK⁻¹ξ = 1, K = blockdiag(nominal x0, nominal w, …).
+    EllipsoidSurface,
+    /// Uniform inside that ellipsoid.
+    EllipsoidInterior,
+    /// ξ ~ (0, Σ) with Σ a random full covariance (fixed by the seed), E[ξᵀK⁻¹ξ] = dim.
+    RandomCovariance { seed: u64 },
+    /// The worst input on the ellipsoid for the named filter (the top eigenvector of ΨKΨᵀ).
+    EllipsoidWorstFor { filter: F },
+    /// Gaussian W = col(w[0..N]) coloured in time (AR(1) per component, the nominal covariance per
+    /// step) with total anisotropy exactly `anisotropy` (seed 003; a over lw = mw(N+1)).
+    Coloured { anisotropy: f64 },
+    /// The named filter's worst Gaussian input at total anisotropy `anisotropy`: Σ(q) = (I − qΛ)⁻¹,
+    /// scaled to the power of white nominal noise.
+    AnisotropicWorstFor { filter: F, anisotropy: f64 },
+}
+
+/// A resolved [`Input`].
+pub type InputChoice = Input<usize>;
+
+impl<F> Input<F> {
+    /// The same choice with its filter reference mapped (name → index).
+    pub(crate) fn map_filter<G>(self, f: impl FnOnce(F) -> Result<G>) -> Result<Input<G>> {
+        Ok(match self {
+            Input::Independent => Input::Independent,
+            Input::EllipsoidSurface => Input::EllipsoidSurface,
+            Input::EllipsoidInterior => Input::EllipsoidInterior,
+            Input::RandomCovariance { seed } => Input::RandomCovariance { seed },
+            Input::EllipsoidWorstFor { filter } => Input::EllipsoidWorstFor { filter: f(filter)? },
+            Input::Coloured { anisotropy } => Input::Coloured { anisotropy },
+            Input::AnisotropicWorstFor { filter, anisotropy } => {
+                Input::AnisotropicWorstFor { filter: f(filter)?, anisotropy }
+            }
+        })
+    }
+}
+
+/// A scenario: which covariance the noise has and which distribution shape it is drawn with.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    pub name: String,
+    pub covariance: CovChoice,
+    pub shape: Shape,
+    pub disturbance: DisturbanceChoice,
+    pub input: InputChoice,
+}
+
+/// A filter entry: its name, its family, the parameter table as written (for the manifest and
+/// the sweeps), and the family with those parameters read ([`crate::families::Family::Params`]).
+#[derive(Clone, Debug)]
+pub struct FilterSpec {
+    pub name: String,
+    pub family: String,
+    pub params: toml::Table,
+    pub configured: std::sync::Arc<dyn crate::families::Configured>,
+}
+
+impl FilterSpec {
+    /// Reads the family's parameters (an unknown family or a bad key is refused with its name).
+    pub fn new(name: String, family: String, params: toml::Table) -> Result<Self> {
+        let configured = crate::families::configure(&name, &family, &params)?;
+        Ok(FilterSpec { name, family, params, configured })
+    }
+}
+
+/// A validated experiment, ready to design and run.
+#[derive(Clone, Debug)]
+pub struct Experiment {
+    pub name: String,
+    /// The variant's name when the file has `[[variants]]` (e.g. one dropout probability each).
+    pub variant: Option<String>,
+    pub description: String,
+    pub seed: u64,
+    pub trials: usize,
+    pub pattern: Pattern,
+    pub sample_trajectories: usize,
+    /// The total anisotropy a at which every filter's a-anisotropic norm is reported, if any.
+    pub anisotropy: Option<f64>,
+    pub plant: Plant,
+    pub nominal: Covariances,
+    /// The uncertainty set of each covariance block (index as in `Covariances::blocks`), if any.
+    pub sets: Vec<Option<CovSet>>,
+    /// The energy bound of each block that is a deterministic disturbance (index as in `sets`).
+    pub disturbances: Vec<Option<Disturbance>>,
+    pub scenarios: Vec<Scenario>,
+    pub filters: Vec<FilterSpec>,
+    /// The file text, kept for the manifest.
+    pub source: String,
+    /// The string model when the file describes one (seed 004).
+    pub string: Option<crate::model::string::StringModel>,
+}
+
+impl Experiment {
+    pub fn has_sets(&self) -> bool {
+        self.sets.iter().any(Option::is_some)
+    }
+    /// The covariances noise is drawn with: deterministic disturbance blocks have none (their
+    /// entry in `cov` is the design surrogate energy · W⁻¹).
+    pub fn sampling(&self, cov: &Covariances) -> Covariances {
+        let mut out = cov.clone();
+        for (b, d) in out.blocks.iter_mut().zip(&self.disturbances) {
+            if d.is_some() {
+                b.fill(0.0);
+            }
+        }
+        out
+    }
+    pub fn has_disturbances(&self) -> bool {
+        self.disturbances.iter().any(Option::is_some)
+    }
+    pub fn filter_index(&self, name: &str) -> Option<usize> {
+        self.filters.iter().position(|f| f.name == name)
+    }
+
+    /// What filter `i`'s family designs from.
+    pub fn design_input(&self, i: usize) -> crate::filter::design::DesignInput<'_> {
+        crate::filter::design::DesignInput {
+            name: &self.filters[i].name,
+            plant: &self.plant,
+            pattern: self.pattern,
+            nominal: &self.nominal,
+            sets: &self.sets,
+            string: self.string.as_ref(),
+        }
+    }
+}
+
+/// Refuses a user-given name that would corrupt the terminal or a file name: control characters
+/// (an ESC sequence printed in a message can clear the screen).
+pub fn check_name(key: &str, name: &str) -> Result<()> {
+    if let Some(c) = name.chars().find(|c| c.is_control()) {
+        return Err(Error::invalid(
+            key,
+            format!("contains the control character U+{:04X}: names must be printable", c as u32),
+        ));
+    }
+    Ok(())
+}
+
+/// The most trials a run may have: every count (trials × scenarios on the progress bar, the trial
+/// index of the random streams) then fits in 64 bits, and a count is exact in an f64 (< 2⁵³).
+pub const MAX_TRIALS: usize = 1_000_000_000_000;
+
+/// The one rule for a trial count, from the file (`trials`) or the command line (`--trials`).
+pub fn check_trials(key: &str, trials: usize) -> Result<()> {
+    if trials < 2 {
+        return Err(Error::invalid(key, "at least 2 trials are needed for a confidence interval"));
+    }
+    if trials > MAX_TRIALS {
+        return Err(Error::invalid(key, format!("{trials} trials is more than the limit of {MAX_TRIALS} (10¹²)")));
+    }
+    Ok(())
+}
+
+/// The one rule for `sample_trajectories`: at most one per trial, so a value above the trial count
+/// (from the file, or after `--trials` lowered it) keeps every trial's trajectory.
+pub fn sample_count(sample_trajectories: usize, trials: usize) -> usize {
+    sample_trajectories.min(trials)
+}
+
+/// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
+pub fn load(path: &Path) -> Result<Experiment> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
+    parse(&name, &path.display().to_string(), &text)
+}
+
+/// Reads an experiment file and returns one experiment per `[[variants]]` entry: the file with the
+/// entry's keys merged in (tables key by key, anything else replaced), named by its `name`. A file
+/// without variants gives itself. The base file must be valid on its own.
+pub fn load_variants(path: &Path) -> Result<Vec<Experiment>> {
+    let base = load(path)?;
+    let file = path.display().to_string();
+    let mut doc: toml::Table =
+        toml::from_str(&base.source).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
+    let Some(variants) = doc.remove("variants") else { return Ok(vec![base]) };
+    let variants = variants.as_array().cloned().unwrap_or_default();
+    let mut out = Vec::with_capacity(variants.len());
+    let mut seen = std::collections::BTreeSet::new();
+    for (i, v) in variants.into_iter().enumerate() {
+        let key = format!("variants[{i}]");
+        let mut patch = match v {
+            toml::Value::Table(t) => t,
+            _ => return Err(Error::invalid(key, "each variant is a table")),
+        };
+        let name = match patch.remove("name") {
+            Some(toml::Value::String(n)) => n,
+            _ => return Err(Error::invalid(format!("{key}.name"), "each variant needs a `name` (a string)")),
+        };
+        check_name(&format!("{key}.name"), &name)?;
+        if !seen.insert(name.clone()) {
+            return Err(Error::invalid(format!("{key}.name"), format!("variant name `{name}` is repeated")));
+        }
+        let mut merged = doc.clone();
+        merge(&mut merged, patch);
+        let raw: ExperimentFile =
+            serde_path_to_error::deserialize(toml::Value::Table(merged)).map_err(|e| Error::Parse {
+                file: file.clone(),
+                message: format!("variant `{name}`: key `{}`: {}", e.path(), e.inner().message().trim()),
+            })?;
+        let mut exp = resolve_file(&base.name, raw, &base.source)
+            .map_err(|e| Error::Parse { file: file.clone(), message: format!("variant `{name}`: {e}") })?;
+        exp.variant = Some(name);
+        out.push(exp);
+    }
+    if out.is_empty() {
+        return Err(Error::invalid("variants", "the list of variants is empty"));
+    }
+    Ok(out)
+}
+
+/// Merges `patch` into `doc`: tables key by key, any other value replaced.
+fn merge(doc: &mut toml::Table, patch: toml::Table) {
+    for (k, v) in patch {
+        match (doc.get_mut(&k), v) {
+            (Some(toml::Value::Table(d)), toml::Value::Table(p)) => merge(d, p),
+            (_, v) => {
+                doc.insert(k, v);
+            }
+        }
+    }
+}
+
+/// Parses experiment text; `file` is only used in messages.
+pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
+    check_name("experiment name", name)?;
+    let raw: ExperimentFile = deserialize(file, text)?;
+    resolve_file(name, raw, text)
+}
+
+/// The one-line description of an experiment file, for `filterbench list` (None if unreadable).
+pub fn describe(path: &Path) -> Option<String> {
+    #[derive(Deserialize)]
+    struct Head {
+        description: String,
+    }
+    let text = std::fs::read_to_string(path).ok()?;
+    toml::from_str::<Head>(&text).ok().map(|h| h.description)
+}

@@ -1,0 +1,541 @@
+//! From the file as written to a validated [`Experiment`]: every dimension, name and reference
+//! checked, each error naming its key.
+
+use std::collections::BTreeMap;
+
+use super::schema::*;
+use super::{Experiment, FilterSpec, Input, Scenario, check_name, check_trials, sample_count};
+use crate::analysis::anisotropy::gaussian_anisotropy;
+use crate::error::{Error, Result};
+use crate::model::choice::CovChoice;
+use crate::model::disturbance::{Disturbance, DisturbanceChoice};
+use crate::model::kind::Strict;
+use crate::model::plant::{Covariances, Plant};
+use crate::model::uncertainty::{CovSet, SetShape};
+use crate::numerics::linalg::{Mat, Vector, check_psd, from_rows};
+
+/// What can be checked of the scenarios without designing a filter, so a bad scenario fails in
+/// seconds and not after every design: the coloured input's anisotropy against white noise's.
+fn check_scenarios_before_design(plant: &Plant, nominal: &Covariances, scenarios: &[Scenario]) -> Result<()> {
+    for (i, s) in scenarios.iter().enumerate() {
+        if let Input::Coloured { anisotropy } = &s.input {
+            let w = nominal.w();
+            let white = plant.steps() as f64 * gaussian_anisotropy(&w);
+            let key = format!("scenarios.{}.input.anisotropy (scenarios[{i}])", s.name);
+            if !white.is_finite() {
+                return Err(Error::invalid(
+                    key,
+                    "the nominal noise covariance is singular: its anisotropy is infinite",
+                ));
+            }
+            if *anisotropy < white - 1e-12 {
+                return Err(Error::invalid(
+                    key,
+                    format!(
+                        "white noise with the nominal covariance already has anisotropy {white:.6}; a coloured input cannot have less (got {anisotropy})"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Resolves a file, generating the plant and the nominal covariances first when it describes a
+/// string (seed 004) instead of giving matrices.
+pub(super) fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Experiment> {
+    let Some(sf) = raw.string.take() else {
+        if raw.plant.is_none() {
+            return Err(Error::invalid("plant", "missing: give [plant] or [string]"));
+        }
+        return resolve(name, raw, text);
+    };
+    if raw.plant.is_some() || !raw.nominal.is_empty() || raw.modes.is_some() {
+        return Err(Error::invalid(
+            "string",
+            "[string] generates the plant and its covariances: remove [plant], [nominal] and [modes]",
+        ));
+    }
+    let model = crate::model::string::StringModel::from_file(&sf)?;
+    let (plant, cov) = model.plant(sf.duration);
+    let rows = |m: &Mat| -> Rows { (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect() };
+    raw.plant = Some(PlantFile {
+        horizon: plant.horizon,
+        A: rows(&plant.a),
+        B: rows(&plant.b),
+        C: rows(&plant.c),
+        D: rows(&plant.d),
+        Cz: Some(rows(&plant.cz)),
+        Dz: Some(rows(&plant.dz)),
+        x0_mean: None,
+        noise_blocks: plant.noise_blocks.iter().map(|(n, _)| n.clone()).collect(),
+        first_measurement: 0,
+        sum_from: 0,
+        C_steps: None,
+        known_input: None,
+        arrival: None,
+    });
+    for (n, m) in plant.block_names().iter().zip(&cov.blocks) {
+        raw.nominal.insert(n.to_string(), rows(m));
+    }
+    let mut exp = resolve(name, raw, text)?;
+    exp.string = Some(model);
+    Ok(exp)
+}
+
+pub(super) fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
+    let line_of = |span: Option<std::ops::Range<usize>>| {
+        span.map(|s| format!(" (line {})", text[..s.start.min(text.len())].lines().count().max(1))).unwrap_or_default()
+    };
+    let de = toml::Deserializer::parse(text).map_err(|e| Error::Parse {
+        file: file.to_string(),
+        message: format!("TOML syntax: {}{}", e.message().trim(), line_of(e.span())),
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.inner();
+        let key = if path == "." { String::new() } else { format!("key `{path}`: ") };
+        Error::Parse {
+            file: file.to_string(),
+            message: format!("{key}{}{}", inner.message().trim(), line_of(inner.span())),
+        }
+    })
+}
+
+fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> {
+    let p = f.plant.as_ref().expect("resolve_file checked the plant");
+    if p.horizon == 0 {
+        return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
+    }
+    check_trials("trials", f.trials)?;
+    let m = plant_matrices(p)?;
+    let (blocks, dims, disturbances) = covariance_blocks(p, &f.nominal, &f.disturbances, m.a.nrows(), m.b.ncols())?;
+    let plant = plant(p, m, dims, f.modes.as_ref())?;
+    let nominal = Covariances { blocks };
+    let sets = sets(&f.sets, &f.disturbances, &plant, &nominal)?;
+    let filters = filters(&mut f)?;
+    let scenarios = scenarios(std::mem::take(&mut f.scenarios), &plant, &nominal, &sets, &disturbances, &filters)?;
+    if let Some(a) = f.anisotropy {
+        if !(a >= 0.0 && a.is_finite()) {
+            return Err(Error::invalid("anisotropy", format!("must be finite and ≥ 0, got {a}")));
+        }
+    }
+    check_scenarios_before_design(&plant, &nominal, &scenarios)?;
+
+    Ok(Experiment {
+        name: name.to_string(),
+        variant: None,
+        description: f.description,
+        seed: f.seed,
+        trials: f.trials,
+        pattern: f.pattern,
+        sample_trajectories: sample_count(f.sample_trajectories, f.trials),
+        anisotropy: f.anisotropy,
+        plant,
+        nominal,
+        sets,
+        disturbances,
+        scenarios,
+        filters,
+        source: text.to_string(),
+        string: None,
+    })
+}
+
+/// The plant's matrices as read, each checked against the state dimension n = rows of A.
+struct Matrices {
+    a: Mat,
+    b: Mat,
+    c: Mat,
+    d: Mat,
+    cz: Mat,
+    dz: Mat,
+    x0_mean: Vector,
+    known_input: Vec<Vector>,
+}
+
+/// Reads `[plant]`'s matrices, the mean of x0 and the known input r[k] (SPEC §0).
+fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
+    let a = from_rows("plant.A", &p.A, None)?;
+    let n = a.nrows();
+    if n == 0 || !a.is_square() {
+        return Err(Error::invalid(
+            "plant.A",
+            format!("must be square and non-empty, found {}×{}", a.nrows(), a.ncols()),
+        ));
+    }
+    let b = from_rows("plant.B", &p.B, None)?;
+    if b.nrows() != n {
+        return Err(Error::invalid("plant.B", format!("expected {n} rows (the state dimension), found {}", b.nrows())));
+    }
+    let nw = b.ncols();
+    let c = from_rows("plant.C", &p.C, None)?;
+    if c.ncols() != n {
+        return Err(Error::invalid(
+            "plant.C",
+            format!("expected {n} columns (the state dimension), found {}", c.ncols()),
+        ));
+    }
+    let ny = c.nrows();
+    let d = from_rows("plant.D", &p.D, Some((ny, nw)))?;
+    let cz = match &p.Cz {
+        Some(r) => from_rows("plant.Cz", r, None)?,
+        None => Mat::identity(n, n),
+    };
+    if cz.ncols() != n {
+        return Err(Error::invalid(
+            "plant.Cz",
+            format!("expected {n} columns (the state dimension), found {}", cz.ncols()),
+        ));
+    }
+    let nz = cz.nrows();
+    let dz = match &p.Dz {
+        Some(r) => from_rows("plant.Dz", r, Some((nz, nw)))?,
+        None => Mat::zeros(nz, nw),
+    };
+    let x0_mean = match &p.x0_mean {
+        Some(v) if v.len() != n => {
+            return Err(Error::invalid("plant.x0_mean", format!("expected {n} entries, found {}", v.len())));
+        }
+        Some(v) => Vector::from_column_slice(v),
+        None => Vector::zeros(n),
+    };
+    if p.sum_from > p.horizon {
+        return Err(Error::invalid("plant.sum_from", "must not exceed the horizon"));
+    }
+    if p.first_measurement > p.horizon {
+        return Err(Error::invalid("plant.first_measurement", "must not exceed the horizon"));
+    }
+    let known_input = match &p.known_input {
+        None => Vec::new(),
+        Some(Strict(KnownInputFile::Values { values })) => {
+            let m = from_rows("plant.known_input.values", values, Some((p.horizon, n)))?;
+            (0..p.horizon).map(|k| m.row(k).transpose()).collect()
+        }
+        Some(Strict(KnownInputFile::Sine { amplitude, frequency, phase })) => {
+            if amplitude.len() != n {
+                return Err(Error::invalid(
+                    "plant.known_input.amplitude",
+                    format!("expected {n} entries, found {}", amplitude.len()),
+                ));
+            }
+            (0..p.horizon)
+                .map(|k| Vector::from_iterator(n, amplitude.iter().map(|a| a * (frequency * k as f64 + phase).sin())))
+                .collect()
+        }
+    };
+
+    Ok(Matrices { a, b, c, d, cz, dz, x0_mean, known_input })
+}
+
+/// The covariance blocks, x0 first and then the noise blocks in the order `plant.noise_blocks`
+/// gives: each nominal covariance, or for a disturbance block its surrogate energy · W⁻¹ (seed 000
+/// eq (39)) with the disturbance itself in the third list. Returns the noise blocks' dimensions.
+#[allow(clippy::type_complexity)]
+fn covariance_blocks(
+    p: &PlantFile,
+    nominal: &BTreeMap<String, Rows>,
+    disturbances_file: &BTreeMap<String, DisturbanceFile>,
+    n: usize,
+    nw: usize,
+) -> Result<(Vec<Mat>, Vec<(String, usize)>, Vec<Option<Disturbance>>)> {
+    let mut seen = std::collections::BTreeSet::new();
+    for (i, bn) in p.noise_blocks.iter().enumerate() {
+        check_name(&format!("plant.noise_blocks[{i}]"), bn)?;
+        if bn == "x0" || !seen.insert(bn.as_str()) {
+            return Err(Error::invalid("plant.noise_blocks", format!("block name `{bn}` is reserved or repeated")));
+        }
+    }
+    for key in nominal.keys() {
+        if key != "x0" && !seen.contains(key.as_str()) {
+            return Err(Error::invalid(
+                format!("nominal.{key}"),
+                "not a covariance block: expected `x0` or one of plant.noise_blocks",
+            ));
+        }
+    }
+    for key in disturbances_file.keys() {
+        if !seen.contains(key.as_str()) {
+            return Err(Error::invalid(
+                format!("disturbances.{key}"),
+                "not a noise block: expected one of plant.noise_blocks",
+            ));
+        }
+        if nominal.contains_key(key) {
+            return Err(Error::invalid(
+                format!("nominal.{key}"),
+                "a disturbance block has no covariance (it is deterministic, bounded in energy by [disturbances]): remove it",
+            ));
+        }
+    }
+    let mut blocks = Vec::new();
+    let mut dims = Vec::new();
+    let mut disturbances = vec![None];
+    for bn in std::iter::once("x0").chain(p.noise_blocks.iter().map(String::as_str)) {
+        if let Some(df) = disturbances_file.get(bn) {
+            let key = format!("disturbances.{bn}");
+            let w = from_rows(&format!("{key}.weight"), &df.weight, None)?;
+            check_psd(&format!("{key}.weight"), &w)?;
+            if w.is_empty()
+                || nalgebra::Cholesky::new(w.clone()).is_none()
+                || crate::numerics::linalg::min_eigenvalue(&w) <= 0.0
+            {
+                return Err(Error::invalid(format!("{key}.weight"), "the weight must be positive definite"));
+            }
+            if !(df.energy >= 0.0 && df.energy.is_finite()) {
+                return Err(Error::invalid(format!("{key}.energy"), "the energy bound must be finite and ≥ 0"));
+            }
+            let d = Disturbance { weight: w, energy: df.energy };
+            dims.push((bn.to_string(), d.weight.nrows()));
+            blocks.push(d.surrogate_covariance());
+            disturbances.push(Some(d));
+            continue;
+        }
+        if bn != "x0" {
+            disturbances.push(None);
+        }
+        let key = format!("nominal.{bn}");
+        let rows = nominal.get(bn).ok_or_else(|| Error::invalid(&key, "missing covariance"))?;
+        let m = from_rows(&key, rows, None)?;
+        if bn == "x0" && m.shape() != (n, n) {
+            return Err(Error::invalid(key, format!("expected a {n}×{n} matrix, found {}×{}", m.nrows(), m.ncols())));
+        }
+        check_psd(&key, &m)?;
+        if bn != "x0" {
+            dims.push((bn.to_string(), m.nrows()));
+        }
+        blocks.push(m);
+    }
+    let total: usize = dims.iter().map(|(_, d)| d).sum();
+    if total != nw {
+        return Err(Error::invalid(
+            "nominal",
+            format!("the noise blocks have {total} components in all but plant.B has {nw} columns"),
+        ));
+    }
+    Ok((blocks, dims, disturbances))
+}
+
+/// The plant (SPEC §0): its matrices, the time-varying C, dropouts (`plant.arrival`) or Markov
+/// modes (seed 001), which exclude each other.
+fn plant(p: &PlantFile, m: Matrices, dims: Vec<(String, usize)>, modes: Option<&ModesFile>) -> Result<Plant> {
+    let (n, ny) = (m.a.nrows(), m.c.nrows());
+    let Matrices { a, b, c, d, cz, dz, x0_mean, known_input } = m;
+    let mut plant = Plant::new(p.horizon, a, b, c, d, cz, dz, x0_mean, p.first_measurement, known_input, dims);
+    plant.sum_from = p.sum_from;
+    if let Some(steps) = &p.C_steps {
+        if steps.len() != p.horizon + 1 {
+            return Err(Error::invalid(
+                "plant.C_steps",
+                format!("expected one matrix per step k = 0..N ({}), found {}", p.horizon + 1, steps.len()),
+            ));
+        }
+        plant.c_steps = steps
+            .iter()
+            .enumerate()
+            .map(|(k, r)| from_rows(&format!("plant.C_steps[{k}]"), r, Some((ny, n))))
+            .collect::<Result<_>>()?;
+    }
+    if let Some(pa) = p.arrival {
+        if !(pa > 0.0 && pa <= 1.0) {
+            return Err(Error::invalid("plant.arrival", format!("a probability in (0, 1] is needed, got {pa}")));
+        }
+        if !p.C_steps.as_ref().is_none_or(Vec::is_empty) {
+            return Err(Error::invalid("plant.arrival", "dropouts with a time-varying C (C_steps) are not supported"));
+        }
+        plant.set_arrival(pa);
+    }
+    if let Some(mf) = modes {
+        if plant.arrival.is_some() {
+            return Err(Error::invalid("modes", "a plant has either dropouts (plant.arrival) or [modes], not both"));
+        }
+        if !plant.c_steps.is_empty() {
+            return Err(Error::invalid("modes", "Markov modes with a time-varying C (C_steps) are not supported"));
+        }
+        plant.modes = Some(resolve_modes(mf, &plant)?);
+    }
+    Ok(plant)
+}
+
+/// Each `[sets.BLOCK]`: the uncertainty set of that covariance block (SPEC §2).
+fn sets(
+    files: &BTreeMap<String, Strict<SetFile>>,
+    disturbances: &BTreeMap<String, DisturbanceFile>,
+    plant: &Plant,
+    nominal: &Covariances,
+) -> Result<Vec<Option<CovSet>>> {
+    let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
+    let mut sets: Vec<Option<CovSet>> = vec![None; names.len()];
+    for (bn, Strict(s)) in files {
+        let key = format!("sets.{bn}");
+        if disturbances.contains_key(bn) {
+            return Err(Error::invalid(key, "a disturbance block has an energy bound, not a covariance set"));
+        }
+        let i = names
+            .iter()
+            .position(|n| n == bn)
+            .ok_or_else(|| Error::invalid(&key, format!("unknown covariance block (known: {})", names.join(", "))))?;
+        let nom = &nominal.blocks[i];
+        let d = nom.nrows();
+        let matrix = |name: &str, r: &Rows| from_rows(&format!("{key}.{name}"), r, Some((d, d)));
+        let center = |c: &Option<Rows>| c.as_ref().map_or(Ok(nom.clone()), |r| matrix("center", r));
+        let (shape, psd) = match s {
+            SetFile::Box { half_width, center: c, psd } => {
+                let half_width = match half_width {
+                    HalfWidth::Scalar(v) => Mat::from_element(d, d, *v),
+                    HalfWidth::Matrix(r) => matrix("half_width", r)?,
+                };
+                (SetShape::Box { center: center(c)?, half_width }, *psd)
+            }
+            SetFile::Ball { radius, center: c, psd } => (SetShape::Ball { center: center(c)?, radius: *radius }, *psd),
+            SetFile::Loewner { lower, upper, psd } => {
+                (SetShape::Loewner { lower: matrix("lower", lower)?, upper: matrix("upper", upper)? }, *psd)
+            }
+        };
+        sets[i] = Some(CovSet::new(&key, shape, psd, nom)?);
+    }
+
+    Ok(sets)
+}
+
+/// The filters, sweeps expanded, names checked, each family's parameters read.
+fn filters(f: &mut ExperimentFile) -> Result<Vec<FilterSpec>> {
+    let mut filters_in = std::mem::take(&mut f.filters);
+    for (i, sw) in f.filter_sweeps.iter().enumerate() {
+        filters_in.extend(sw.expand(i)?);
+    }
+    f.filters = filters_in;
+    if f.filters.is_empty() {
+        return Err(Error::invalid("filters", "the experiment names no filter"));
+    }
+    let mut fnames = std::collections::BTreeSet::new();
+    for (i, fl) in f.filters.iter().enumerate() {
+        check_name(&format!("filters[{i}].name"), &fl.name)?;
+        if !fnames.insert(fl.name.as_str()) {
+            return Err(Error::invalid(format!("filters[{i}].name"), format!("filter name `{}` is repeated", fl.name)));
+        }
+    }
+    std::mem::take(&mut f.filters).into_iter().map(|fl| FilterSpec::new(fl.name, fl.family, fl.params)).collect()
+}
+
+/// The scenarios: names, the covariance choice, shape, disturbance and input, every filter they
+/// name resolved to its index.
+fn scenarios(
+    files: Vec<ScenarioFile>,
+    plant: &Plant,
+    nominal: &Covariances,
+    sets: &[Option<CovSet>],
+    disturbances: &[Option<Disturbance>],
+    filters: &[FilterSpec],
+) -> Result<Vec<Scenario>> {
+    if files.is_empty() {
+        return Err(Error::invalid("scenarios", "the experiment names no scenario"));
+    }
+    let has_sets = sets.iter().any(Option::is_some);
+    let mut scenarios = Vec::new();
+    let mut snames = std::collections::BTreeSet::new();
+    for (i, s) in files.into_iter().enumerate() {
+        check_name(&format!("scenarios[{i}].name"), &s.name)?;
+        if !snames.insert(s.name.clone()) {
+            return Err(Error::invalid(
+                format!("scenarios[{i}].name"),
+                format!("scenario name `{}` is repeated", s.name),
+            ));
+        }
+        let key = format!("scenarios.{}.covariance", s.name);
+        let covariance = CovChoice::resolve(&key, &s.covariance, plant, nominal, has_sets, |n| {
+            filters.iter().position(|x| x.name == n)
+        })?;
+        s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
+        let index_of = |key: String| {
+            move |name: String| {
+                filters.iter().position(|x| x.name == name).ok_or_else(|| {
+                    Error::invalid(format!("{key}.filter"), format!("no filter named `{name}` in this experiment"))
+                })
+            }
+        };
+        let dkey = format!("scenarios.{}.disturbance", s.name);
+        if s.disturbance != DisturbanceChoice::None && !disturbances.iter().any(Option::is_some) {
+            return Err(Error::invalid(dkey, "the plant has no [disturbances] block"));
+        }
+        let disturbance = s.disturbance.map_filter(index_of(dkey))?;
+        let ikey = format!("scenarios.{}.input", s.name);
+        if s.input != Input::Independent
+            && (!matches!(covariance, CovChoice::Nominal) || disturbance != DisturbanceChoice::None)
+        {
+            return Err(Error::invalid(ikey, "a joint input replaces `covariance` and `disturbance`: remove them"));
+        }
+        if let Input::Coloured { anisotropy: a } | Input::AnisotropicWorstFor { anisotropy: a, .. } = &s.input {
+            if !(*a >= 0.0 && a.is_finite()) {
+                return Err(Error::invalid(format!("{ikey}.anisotropy"), format!("must be finite and ≥ 0, got {a}")));
+            }
+        }
+        let input = s.input.map_filter(index_of(ikey))?;
+        scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance, input });
+    }
+    Ok(scenarios)
+}
+
+/// Validates a Markov chain and its modes: Π square with one row per mode, non-negative, rows
+/// summing to 1; p(0) likewise (default: the stationary distribution, which must then exist).
+fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<crate::model::plant::Modes> {
+    let q = mf.mode.len();
+    if q == 0 {
+        return Err(Error::invalid("modes.mode", "list at least one mode"));
+    }
+    let mut names = std::collections::BTreeSet::new();
+    for (i, m) in mf.mode.iter().enumerate() {
+        check_name(&format!("modes.mode[{i}].name"), &m.name)?;
+        if !names.insert(m.name.as_str()) {
+            return Err(Error::invalid(format!("modes.mode[{i}].name"), format!("mode name `{}` is repeated", m.name)));
+        }
+    }
+    let pi = from_rows("modes.transition", &mf.transition, Some((q, q)))?;
+    let stochastic = |key: &str, row: &[f64]| -> Result<()> {
+        if row.iter().any(|v| !(*v >= 0.0 && v.is_finite())) {
+            return Err(Error::invalid(key, format!("probabilities must be finite and ≥ 0, got {row:?}")));
+        }
+        let sum: f64 = row.iter().sum();
+        if (sum - 1.0).abs() > 1e-9 {
+            return Err(Error::invalid(key, format!("probabilities must sum to 1, these sum to {sum}")));
+        }
+        Ok(())
+    };
+    for s in 0..q {
+        let row: Vec<f64> = pi.row(s).iter().copied().collect();
+        stochastic(&format!("modes.transition row {} ({})", s + 1, mf.mode[s].name), &row)?;
+    }
+    let (n, nw, ny) = (plant.nx(), plant.nw(), plant.ny());
+    let pick = |key: &str, given: &Option<Rows>, base: &Mat, shape: (usize, usize)| -> Result<Mat> {
+        given.as_ref().map_or(Ok(base.clone()), |r| from_rows(key, r, Some(shape)))
+    };
+    let mut modes = crate::model::plant::Modes {
+        names: mf.mode.iter().map(|m| m.name.clone()).collect(),
+        transition: pi,
+        initial: Vec::new(),
+        a: Vec::new(),
+        b: Vec::new(),
+        c: Vec::new(),
+        d: Vec::new(),
+    };
+    for m in &mf.mode {
+        let key = |x: &str| format!("modes.{}.{x}", m.name);
+        modes.a.push(pick(&key("A"), &m.A, &plant.a, (n, n))?);
+        modes.b.push(pick(&key("B"), &m.B, &plant.b, (n, nw))?);
+        modes.c.push(pick(&key("C"), &m.C, &plant.c, (ny, n))?);
+        modes.d.push(pick(&key("D"), &m.D, &plant.d, (ny, nw))?);
+    }
+    modes.initial = match &mf.initial {
+        Some(p0) => {
+            if p0.len() != q {
+                return Err(Error::invalid("modes.initial", format!("expected {q} probabilities, found {}", p0.len())));
+            }
+            stochastic("modes.initial", p0)?;
+            p0.clone()
+        }
+        None => modes.stationary().ok_or_else(|| {
+            Error::invalid("modes.initial", "the chain has no unique stationary distribution: give p(0) explicitly")
+        })?,
+    };
+    Ok(modes)
+}

@@ -1,0 +1,5 @@
+//! Layer 6, simulation: noise sampling and the Monte Carlo engine with its streaming statistics.
+
+pub mod montecarlo;
+pub mod noise;
+pub mod stats;
