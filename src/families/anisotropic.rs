@@ -87,48 +87,44 @@ impl super::Family for Anisotropic {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
-    }
-}
-
-fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-    let key = format!("filters.{}.anisotropy", input.name);
-    let level = match p.anisotropy.clone() {
-        LevelFile::Value(a) if a >= 0.0 && a.is_finite() => Level::Anisotropy(a),
-        LevelFile::Name(s) if s == "inf" => Level::Hinf,
-        LevelFile::Value(a) => return Err(Error::invalid(key, format!("must be finite and ≥ 0, or \"inf\"; got {a}"))),
-        LevelFile::Name(s) => return Err(Error::invalid(key, format!("must be a number ≥ 0 or \"inf\"; got \"{s}\""))),
-    };
-    check_setting(input)?;
-    let (syn, norm_sq, attempts) = synthesize_checked(input.plant, level).map_err(|e| Error::design(input.name, e))?;
-    let realization = realization(input.plant, &syn);
-    let mut diagnostics = serde_json::Map::new();
-    diagnostics.insert("exact_norm_sq".into(), norm_sq.into());
-    diagnostics.insert("clarabel_attempts".into(), attempts.into());
-    diagnostics.insert("gamma_sq".into(), syn.gamma_sq.into());
-    diagnostics.insert("eta".into(), syn.eta.into());
-    diagnostics.insert(
-        "design_anisotropy".into(),
-        match level {
-            Level::Anisotropy(a) => a.into(),
-            Level::Hinf => "inf".into(),
-        },
-    );
-    diagnostics.insert("sdp_variables".into(), syn.variables.into());
-    diagnostics.insert("sdp_rows".into(), syn.rows.into());
-    diagnostics.insert("sdp_cones".into(), serde_json::to_value(&syn.cones).unwrap_or_default());
-    diagnostics.insert("clarabel_iterations".into(), syn.iterations.into());
-    diagnostics.insert("clarabel_seconds".into(), syn.solve_seconds.into());
-    Ok(Design {
-        gain_bound: Some(crate::filter::design::GainBound {
-            gamma_sq: syn.gamma_sq,
-            anisotropy: match level {
-                Level::Anisotropy(a) => a,
-                Level::Hinf => f64::INFINITY,
+        let key = format!("filters.{}.anisotropy", input.name);
+        let level = match p.anisotropy.clone() {
+            LevelFile::Value(a) if a >= 0.0 && a.is_finite() => Level::Anisotropy(a),
+            LevelFile::Name(s) if s == "inf" => Level::Hinf,
+            LevelFile::Value(a) => return Err(Error::invalid(key, format!("must be finite and ≥ 0, or \"inf\"; got {a}"))),
+            LevelFile::Name(s) => return Err(Error::invalid(key, format!("must be a number ≥ 0 or \"inf\"; got \"{s}\""))),
+        };
+        check_setting(input)?;
+        let (syn, norm_sq, attempts) = synthesize_checked(input.plant, level).map_err(|e| Error::design(input.name, e))?;
+        let realization = realization(input.plant, &syn);
+        let mut diagnostics = serde_json::Map::new();
+        diagnostics.insert("exact_norm_sq".into(), norm_sq.into());
+        diagnostics.insert("clarabel_attempts".into(), attempts.into());
+        diagnostics.insert("gamma_sq".into(), syn.gamma_sq.into());
+        diagnostics.insert("eta".into(), syn.eta.into());
+        diagnostics.insert(
+            "design_anisotropy".into(),
+            match level {
+                Level::Anisotropy(a) => a.into(),
+                Level::Hinf => "inf".into(),
             },
-        }),
-        ..Design::new(realization, diagnostics)
-    })
+        );
+        diagnostics.insert("sdp_variables".into(), syn.variables.into());
+        diagnostics.insert("sdp_rows".into(), syn.rows.into());
+        diagnostics.insert("sdp_cones".into(), serde_json::to_value(&syn.cones).unwrap_or_default());
+        diagnostics.insert("clarabel_iterations".into(), syn.iterations.into());
+        diagnostics.insert("clarabel_seconds".into(), syn.solve_seconds.into());
+        Ok(Design {
+            gain_bound: Some(crate::filter::design::GainBound {
+                gamma_sq: syn.gamma_sq,
+                anisotropy: match level {
+                    Level::Anisotropy(a) => a,
+                    Level::Hinf => f64::INFINITY,
+                },
+            }),
+            ..Design::new(realization, diagnostics)
+        })
+    }
 }
 
 /// The setting of seed 003 §4.2.1: prediction, x(0) known (zero covariance), every step counted and

@@ -52,50 +52,46 @@ impl super::Family for Galerkin {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
+        let key = |k: &str| format!("filters.{}.{k}", input.name);
+        let model = input
+            .string
+            .as_ref()
+            .ok_or_else(|| Error::design(input.name, "the Galerkin filter needs a [string] plant (seed 004)"))?;
+        if input.pattern != Pattern::Filtering {
+            return Err(Error::design(
+                input.name,
+                "the Galerkin filter estimates u(t) from r up to t: set pattern = \"filtering\"",
+            ));
+        }
+        if p.n == 0 {
+            return Err(Error::invalid(key("n"), "the number of basis functions must be at least 1"));
+        }
+        if !(p.alpha >= 0.0 && p.alpha.is_finite()) {
+            return Err(Error::invalid(key("alpha"), format!("the regularization parameter must be ≥ 0, got {}", p.alpha)));
+        }
+        if p.alpha == 0.0 && min_eigenvalue(&model.w_m) <= 1e-12 * model.w_m.amax().max(1e-300) {
+            return Err(Error::invalid(
+                key("alpha"),
+                "W_m is singular, so α = 0 leaves the Kalman–Bucy gain P Cᵀ W_m⁻¹ undefined (seed 004 (5) is ill-posed): use α > 0",
+            ));
+        }
+        let (fplant, fcov) = projected(model, input.plant.horizon, p.basis, p.n, p.alpha);
+        let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
+        // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
+        // truth's r (2M): none at all.
+        for g in realization.steps.iter_mut() {
+            g.gf = Mat::zeros(2 * p.n, 0);
+        }
+        // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
+        // stable, so the plant-coordinate recursion resolves its error).
+        realization.tracks = None;
+        let mut diagnostics = serde_json::Map::new();
+        diagnostics.insert("basis".into(), format!("{:?}", p.basis).to_lowercase().into());
+        diagnostics.insert("n".into(), p.n.into());
+        diagnostics.insert("alpha".into(), p.alpha.into());
+        diagnostics.insert("dt".into(), model.dt.into());
+        Ok(Design::new(realization, diagnostics))
     }
-}
-
-fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-    let key = |k: &str| format!("filters.{}.{k}", input.name);
-    let model = input
-        .string
-        .as_ref()
-        .ok_or_else(|| Error::design(input.name, "the Galerkin filter needs a [string] plant (seed 004)"))?;
-    if input.pattern != Pattern::Filtering {
-        return Err(Error::design(
-            input.name,
-            "the Galerkin filter estimates u(t) from r up to t: set pattern = \"filtering\"",
-        ));
-    }
-    if p.n == 0 {
-        return Err(Error::invalid(key("n"), "the number of basis functions must be at least 1"));
-    }
-    if !(p.alpha >= 0.0 && p.alpha.is_finite()) {
-        return Err(Error::invalid(key("alpha"), format!("the regularization parameter must be ≥ 0, got {}", p.alpha)));
-    }
-    if p.alpha == 0.0 && min_eigenvalue(&model.w_m) <= 1e-12 * model.w_m.amax().max(1e-300) {
-        return Err(Error::invalid(
-            key("alpha"),
-            "W_m is singular, so α = 0 leaves the Kalman–Bucy gain P Cᵀ W_m⁻¹ undefined (seed 004 (5) is ill-posed): use α > 0",
-        ));
-    }
-    let (fplant, fcov) = projected(model, input.plant.horizon, p.basis, p.n, p.alpha);
-    let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
-    // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
-    // truth's r (2M): none at all.
-    for g in realization.steps.iter_mut() {
-        g.gf = Mat::zeros(2 * p.n, 0);
-    }
-    // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
-    // stable, so the plant-coordinate recursion resolves its error).
-    realization.tracks = None;
-    let mut diagnostics = serde_json::Map::new();
-    diagnostics.insert("basis".into(), format!("{:?}", p.basis).to_lowercase().into());
-    diagnostics.insert("n".into(), p.n.into());
-    diagnostics.insert("alpha".into(), p.alpha.into());
-    diagnostics.insert("dt".into(), model.dt.into());
-    Ok(Design::new(realization, diagnostics))
 }
 
 /// The projected, regularized, sampled model as a plant (state (x, ẋ), noise blocks `process` and

@@ -46,21 +46,17 @@ impl super::Family for H2 {
     const NAME: &'static str = "h2";
     type Params = Params;
 
-    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
+    fn design(input: &DesignInput, _p: &Params) -> Result<Design> {
+        check_setting(input, &format!("filters.{}", input.name), &None)?;
+        let p2 = riccati(input.plant, input.nominal);
+        let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&input.plant.cz * p * input.plant.cz.transpose()))).collect();
+        let level = p2
+            .iter()
+            .map(|p| symmetrize(&(&input.plant.cz * p * input.plant.cz.transpose())).symmetric_eigenvalues().max())
+            .fold(0.0, f64::max);
+        let mut design = design_at(input.plant, input.nominal.clone(), Pattern::Prediction);
+        design.diagnostics.insert("h2_level".into(), level.into());
+        design.per_trial = Some(PerTrialBound::Ellipsoid { weights });
+        Ok(design)
     }
-}
-
-fn design(input: &DesignInput, _p: &Params) -> Result<Design> {
-    check_setting(input, &format!("filters.{}", input.name), &None)?;
-    let p2 = riccati(input.plant, input.nominal);
-    let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&input.plant.cz * p * input.plant.cz.transpose()))).collect();
-    let level = p2
-        .iter()
-        .map(|p| symmetrize(&(&input.plant.cz * p * input.plant.cz.transpose())).symmetric_eigenvalues().max())
-        .fold(0.0, f64::max);
-    let mut design = design_at(input.plant, input.nominal.clone(), Pattern::Prediction);
-    design.diagnostics.insert("h2_level".into(), level.into());
-    design.per_trial = Some(PerTrialBound::Ellipsoid { weights });
-    Ok(design)
 }

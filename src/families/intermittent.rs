@@ -37,32 +37,28 @@ impl super::Family for Intermittent {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
+        let key = format!("filters.{}.design", input.name);
+        if input.pattern != Pattern::Prediction {
+            return Err(Error::design(
+                input.name,
+                "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
+            ));
+        }
+        if input.plant.modes.is_some() && input.plant.arrival.is_none() {
+            return Err(Error::design(
+                input.name,
+                "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
+            ));
+        }
+        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+            return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
+        }
+        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let (realization, predicted) = predictor(input.plant, &cov);
+        let mut diagnostics = serde_json::Map::new();
+        diagnostics.insert("riccati_summed_error".into(), predicted.into());
+        Ok(super::exact_at_design(input.plant, realization, cov, diagnostics))
     }
-}
-
-fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-    let key = format!("filters.{}.design", input.name);
-    if input.pattern != Pattern::Prediction {
-        return Err(Error::design(
-            input.name,
-            "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
-        ));
-    }
-    if input.plant.modes.is_some() && input.plant.arrival.is_none() {
-        return Err(Error::design(
-            input.name,
-            "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
-        ));
-    }
-    if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-        return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
-    }
-    let cov = input.design_point(&key, &p.design, input.has_sets())?;
-    let (realization, predicted) = predictor(input.plant, &cov);
-    let mut diagnostics = serde_json::Map::new();
-    diagnostics.insert("riccati_summed_error".into(), predicted.into());
-    Ok(super::exact_at_design(input.plant, realization, cov, diagnostics))
 }
 
 /// The predictor of the module docs and the summed error its Riccati recursion predicts,

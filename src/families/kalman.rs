@@ -69,24 +69,20 @@ impl super::Family for Kalman {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
+        let key = format!("filters.{}.design", input.name);
+        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+            return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's covariance"));
+        }
+        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        if p.plant == PlantChoice::ModeAveraged {
+            let avg = mode_averaged(input.plant, input.name)?;
+            let mut d = design_at(&avg, cov, input.pattern);
+            d.guarantee = None;
+            d.diagnostics.insert("plant".into(), "mode-averaged (stationary weights): ignores the modes".into());
+            return Ok(d);
+        }
+        Ok(design_at(input.plant, cov, input.pattern))
     }
-}
-
-fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-    let key = format!("filters.{}.design", input.name);
-    if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-        return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's covariance"));
-    }
-    let cov = input.design_point(&key, &p.design, input.has_sets())?;
-    if p.plant == PlantChoice::ModeAveraged {
-        let avg = mode_averaged(input.plant, input.name)?;
-        let mut d = design_at(&avg, cov, input.pattern);
-        d.guarantee = None;
-        d.diagnostics.insert("plant".into(), "mode-averaged (stationary weights): ignores the modes".into());
-        return Ok(d);
-    }
-    Ok(design_at(input.plant, cov, input.pattern))
 }
 
 /// The Kalman filter designed at `cov`, with its guarantee: its exact error at `cov`. On a plant

@@ -56,55 +56,51 @@ impl super::Family for MarkovJump {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
-    }
-}
-
-fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-    let name = input.name;
-    if input.pattern != Pattern::Prediction {
-        return Err(Error::design(
-            name,
-            "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
-        ));
-    }
-    let Some(modes) = input.plant.modes.as_ref() else {
-        return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
-    };
-    let key = format!("filters.{name}.design");
-    if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-        return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
-    }
-    let cov = input.design_point(&key, &p.design, input.has_sets())?;
-    let plant = input.plant;
-    let w = cov.w();
-    let mut diagnostics = serde_json::Map::new();
-    let mut trace = Vec::new();
-    let realization = match p.gains {
-        GainsKind::Finite => finite(plant, &cov).0,
-        GainsKind::Steady => {
-            let st = steady(plant, modes, &w).map_err(|e| Error::design(name, e))?;
-            diagnostics.insert("stationary_probabilities".into(), st.probabilities.clone().into());
-            diagnostics.insert("stationary_cost".into(), stationary_cost(plant, &st.p).into());
-            diagnostics.insert("riccati_iterations".into(), st.iterations.into());
-            constant(plant, &st.k)
+        let name = input.name;
+        if input.pattern != Pattern::Prediction {
+            return Err(Error::design(
+                name,
+                "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
+            ));
         }
-        GainsKind::Common => {
-            let t = std::time::Instant::now();
-            let c = common(plant, modes, &w).map_err(|e| Error::design(name, e))?;
-            diagnostics.insert("stationary_cost".into(), c.cost.into());
-            diagnostics.insert("mode_dependent_stationary_cost".into(), c.mode_dependent_cost.into());
-            diagnostics.insert("loss_percent".into(), (100.0 * (c.cost / c.mode_dependent_cost - 1.0)).into());
-            diagnostics.insert("iterations".into(), c.trace.len().into());
-            diagnostics.insert("optimization_seconds".into(), t.elapsed().as_secs_f64().into());
-            trace = c.trace;
-            constant(plant, &vec![c.k; modes.names.len()])
+        let Some(modes) = input.plant.modes.as_ref() else {
+            return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
+        };
+        let key = format!("filters.{name}.design");
+        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+            return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
         }
-    };
-    if p.gains == GainsKind::Finite {
-        diagnostics.insert("riccati_summed_error".into(), finite(plant, &cov).1.into());
+        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let plant = input.plant;
+        let w = cov.w();
+        let mut diagnostics = serde_json::Map::new();
+        let mut trace = Vec::new();
+        let realization = match p.gains {
+            GainsKind::Finite => finite(plant, &cov).0,
+            GainsKind::Steady => {
+                let st = steady(plant, modes, &w).map_err(|e| Error::design(name, e))?;
+                diagnostics.insert("stationary_probabilities".into(), st.probabilities.clone().into());
+                diagnostics.insert("stationary_cost".into(), stationary_cost(plant, &st.p).into());
+                diagnostics.insert("riccati_iterations".into(), st.iterations.into());
+                constant(plant, &st.k)
+            }
+            GainsKind::Common => {
+                let t = std::time::Instant::now();
+                let c = common(plant, modes, &w).map_err(|e| Error::design(name, e))?;
+                diagnostics.insert("stationary_cost".into(), c.cost.into());
+                diagnostics.insert("mode_dependent_stationary_cost".into(), c.mode_dependent_cost.into());
+                diagnostics.insert("loss_percent".into(), (100.0 * (c.cost / c.mode_dependent_cost - 1.0)).into());
+                diagnostics.insert("iterations".into(), c.trace.len().into());
+                diagnostics.insert("optimization_seconds".into(), t.elapsed().as_secs_f64().into());
+                trace = c.trace;
+                constant(plant, &vec![c.k; modes.names.len()])
+            }
+        };
+        if p.gains == GainsKind::Finite {
+            diagnostics.insert("riccati_summed_error".into(), finite(plant, &cov).1.into());
+        }
+        Ok(Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) })
     }
-    Ok(Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) })
 }
 
 /// (15)–(16) on the horizon: the mode-indexed predictor and the summed error its recursion

@@ -72,67 +72,63 @@ impl super::Family for Minimax {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        design(input, p)
-    }
-}
-
-fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-    let key = format!("filters.{}", input.name);
-    if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
-        return Err(Error::invalid(format!("{key}.tolerance"), "must be a positive number"));
-    }
-    if p.max_iterations == 0 {
-        return Err(Error::invalid(format!("{key}.max_iterations"), "must be at least 1"));
-    }
-    if !input.has_sets() {
-        return Err(Error::design(input.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
-    }
-    if matches!(p.start, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-        return Err(Error::invalid(format!("{key}.start"), "Algorithm 1 cannot start at another filter's covariance"));
-    }
-    let start = input.design_point(&format!("{key}.start"), &p.start, true)?;
-    let sol = dual_solve(input.plant, input.pattern, input.sets, start, p.tolerance, p.max_iterations)
-        .map_err(|e| Error::design(input.name, e.to_string()))?;
-    let realization = kalman(input.plant, &sol.k_hat, input.pattern);
-    let at_hat = exact::error(input.plant, &realization, &sol.k_hat);
-    // The certified guarantee is F̂'s exact worst case over the set, max_K J(F̂, K): it holds for any
-    // filter, and for the minimax one it equals I(K̂) up to the final gap δ ≥ I(K̂) − I(K(s)).
-    let certified = exact::worst_case(input.plant, &realization, input.nominal, input.sets)?
-        .map(|w| w.total)
-        .ok_or_else(|| Error::design(input.name, "no uncertainty set"))?;
-    let mut diagnostics = serde_json::Map::new();
-    diagnostics.insert("iterations".into(), sol.trace.len().into());
-    diagnostics.insert("dual_value".into(), sol.value.into());
-    diagnostics.insert("final_gap".into(), sol.gap.into());
-    diagnostics.insert("converged".into(), sol.converged.into());
-    diagnostics.insert(
-        "method".into(),
-        if sol.largest_element { "largest element (Theorem 1.2a)" } else { "Algorithm 1 (conditional gradient)" }
-            .into(),
-    );
-    // Theorem 1.2: the Kalman filter at K̂ is minimax when the set has a largest element (a) or
-    // when R_z(K̂) ≻ 0 (b); with neither, K̂ still maximizes I but the filter is not proven minimax.
-    let rz_min = observation_covariance_min_eigenvalue(input.plant, &sol.k_hat)?;
-    let rz_positive = rz_min > 0.0;
-    diagnostics.insert("rz_min_eigenvalue".into(), rz_min.into());
-    diagnostics.insert(
-        "theorem_1_2".into(),
-        match (sol.largest_element, rz_positive) {
-            (true, _) => "a: the set has a largest element",
-            (false, true) => "b: R_z(K̂) ≻ 0",
-            (false, false) => "neither a nor b: K̂ maximizes I, but the filter at K̂ is not proven minimax",
+        let key = format!("filters.{}", input.name);
+        if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
+            return Err(Error::invalid(format!("{key}.tolerance"), "must be a positive number"));
         }
-        .into(),
-    );
-    Ok(Design {
-        realization,
-        guarantee: Some(Guarantee { kind: "minimax".into(), total: certified, per_step: at_hat.per_step }),
-        design_covariance: Some(sol.k_hat),
-        trace: sol.trace,
-        diagnostics,
-        per_trial: None,
-        gain_bound: None,
-    })
+        if p.max_iterations == 0 {
+            return Err(Error::invalid(format!("{key}.max_iterations"), "must be at least 1"));
+        }
+        if !input.has_sets() {
+            return Err(Error::design(input.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
+        }
+        if matches!(p.start, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+            return Err(Error::invalid(format!("{key}.start"), "Algorithm 1 cannot start at another filter's covariance"));
+        }
+        let start = input.design_point(&format!("{key}.start"), &p.start, true)?;
+        let sol = dual_solve(input.plant, input.pattern, input.sets, start, p.tolerance, p.max_iterations)
+            .map_err(|e| Error::design(input.name, e.to_string()))?;
+        let realization = kalman(input.plant, &sol.k_hat, input.pattern);
+        let at_hat = exact::error(input.plant, &realization, &sol.k_hat);
+        // The certified guarantee is F̂'s exact worst case over the set, max_K J(F̂, K): it holds for any
+        // filter, and for the minimax one it equals I(K̂) up to the final gap δ ≥ I(K̂) − I(K(s)).
+        let certified = exact::worst_case(input.plant, &realization, input.nominal, input.sets)?
+            .map(|w| w.total)
+            .ok_or_else(|| Error::design(input.name, "no uncertainty set"))?;
+        let mut diagnostics = serde_json::Map::new();
+        diagnostics.insert("iterations".into(), sol.trace.len().into());
+        diagnostics.insert("dual_value".into(), sol.value.into());
+        diagnostics.insert("final_gap".into(), sol.gap.into());
+        diagnostics.insert("converged".into(), sol.converged.into());
+        diagnostics.insert(
+            "method".into(),
+            if sol.largest_element { "largest element (Theorem 1.2a)" } else { "Algorithm 1 (conditional gradient)" }
+                .into(),
+        );
+        // Theorem 1.2: the Kalman filter at K̂ is minimax when the set has a largest element (a) or
+        // when R_z(K̂) ≻ 0 (b); with neither, K̂ still maximizes I but the filter is not proven minimax.
+        let rz_min = observation_covariance_min_eigenvalue(input.plant, &sol.k_hat)?;
+        let rz_positive = rz_min > 0.0;
+        diagnostics.insert("rz_min_eigenvalue".into(), rz_min.into());
+        diagnostics.insert(
+            "theorem_1_2".into(),
+            match (sol.largest_element, rz_positive) {
+                (true, _) => "a: the set has a largest element",
+                (false, true) => "b: R_z(K̂) ≻ 0",
+                (false, false) => "neither a nor b: K̂ maximizes I, but the filter at K̂ is not proven minimax",
+            }
+            .into(),
+        );
+        Ok(Design {
+            realization,
+            guarantee: Some(Guarantee { kind: "minimax".into(), total: certified, per_step: at_hat.per_step }),
+            design_covariance: Some(sol.k_hat),
+            trace: sol.trace,
+            diagnostics,
+            per_trial: None,
+            gain_bound: None,
+        })
+    }
 }
 
 /// The smallest eigenvalue of R_z(K) = cov(Z_N) = Ψ R_ρ(K) Ψ*, the covariance of every measurement
