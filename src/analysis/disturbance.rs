@@ -58,7 +58,7 @@ pub fn worst(plant: &Plant, real: &Realization, dist: &[Option<Disturbance>]) ->
     if bl.is_empty() {
         return Ok(None);
     }
-    if plant.modes.is_some() {
+    if plant.switches() {
         return Err(crate::error::Error::invalid(
             "disturbances",
             "the worst deterministic disturbance is computed for a plant that does not switch (no dropouts, no modes)",

@@ -62,7 +62,7 @@ pub fn operator(plant: &Plant, real: &Realization, s: &Mat) -> Result<Mat> {
 /// Ψ with the chosen last block of rows (see [`Terminal`]).
 pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> Result<Mat> {
     let (n, nz, nw, nn) = (plant.nx(), plant.nz(), plant.nw(), plant.horizon);
-    if plant.modes.is_some() {
+    if plant.switches() {
         return Err(Error::invalid(
             "plant",
             "the generalized H∞ operator Ψ is deterministic only for a plant that does not switch (no dropouts, no modes); with dropouts use the anisotropic analysis (Λ = E[𝓕ᵀ𝓕])",
@@ -141,8 +141,8 @@ pub fn norm(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -
 /// Independent of [`norm`]: no operator is formed. Returns (λ*, clarabel's iterations, seconds).
 pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, u32, f64)> {
     let (n, nw, nz, nn) = (plant.nx(), plant.nw(), plant.nz(), plant.horizon);
-    for (t, g) in real.steps.iter().enumerate() {
-        let predictor = (&g.af - (&plant.a - &g.bf * plant.c_at(t))).amax() < 1e-12
+    for (t, g) in real.gains.iter().map(|g| &g[0]).enumerate() {
+        let predictor = (&g.af - (&plant.a - &g.bf * &*plant.c_at(t))).amax() < 1e-12
             && g.df.amax() == 0.0
             && (&g.cf - &plant.cz).amax() == 0.0
             && real.ns() == n;
@@ -169,9 +169,9 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     let mut program = Conic::default();
     let d = n + nw + nz;
     for t in 0..nn {
-        let th = &real.steps[t].bf;
-        let ac = &plant.a - th * plant.c_at(t);
-        let bc = &plant.b - th * plant.d_at(t);
+        let th = &real.step(t).bf;
+        let ac = &plant.a - th * &*plant.c_at(t);
+        let bc = &plant.b - th * &*plant.d_at(t);
         // −(LMI) ⪰ 0: its constant part and the coefficient of every variable.
         let mut c = Mat::zeros(d, d);
         c.view_mut((n, n), (nw, nw)).copy_from(&g_inv);

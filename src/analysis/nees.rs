@@ -25,7 +25,7 @@ fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
     p.cz = u * &plant.cz;
     p.dz = u * &plant.dz;
     let mut r = real.clone();
-    for g in r.steps.iter_mut().chain(r.by_mode.iter_mut().flatten()) {
+    for g in r.gains.iter_mut().flatten() {
         g.cf = u * &g.cf;
         g.df = u * &g.df;
     }

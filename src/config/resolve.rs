@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use super::modes::resolve_modes;
 use super::schema::*;
 use super::{Experiment, FilterSpec, Input, Scenario, check_name, check_trials, sample_count};
 use crate::analysis::anisotropy::gaussian_anisotropy;
@@ -10,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::model::choice::CovChoice;
 use crate::model::disturbance::{Disturbance, DisturbanceChoice};
 use crate::model::kind::Strict;
-use crate::model::plant::{Covariances, Plant};
+use crate::model::plant::{Covariances, Measurement, Plant};
 use crate::model::uncertainty::{CovSet, SetShape};
 use crate::numerics::linalg::{Mat, Vector, check_psd, from_rows};
 
@@ -346,13 +347,13 @@ fn plant(p: &PlantFile, m: Matrices, dims: Vec<(String, usize)>, modes: Option<&
         plant.set_arrival(pa);
     }
     if let Some(mf) = modes {
-        if plant.arrival.is_some() {
+        if plant.arrival().is_some() {
             return Err(Error::invalid("modes", "a plant has either dropouts (plant.arrival) or [modes], not both"));
         }
         if !plant.c_steps.is_empty() {
             return Err(Error::invalid("modes", "Markov modes with a time-varying C (C_steps) are not supported"));
         }
-        plant.modes = Some(resolve_modes(mf, &plant)?);
+        plant.measurement = Measurement::Markov(resolve_modes(mf, &plant)?);
     }
     Ok(plant)
 }
@@ -474,68 +475,4 @@ fn scenarios(
         scenarios.push(Scenario { name: s.name, covariance, shape: s.shape, disturbance, input });
     }
     Ok(scenarios)
-}
-
-/// Validates a Markov chain and its modes: Π square with one row per mode, non-negative, rows
-/// summing to 1; p(0) likewise (default: the stationary distribution, which must then exist).
-fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<crate::model::plant::Modes> {
-    let q = mf.mode.len();
-    if q == 0 {
-        return Err(Error::invalid("modes.mode", "list at least one mode"));
-    }
-    let mut names = std::collections::BTreeSet::new();
-    for (i, m) in mf.mode.iter().enumerate() {
-        check_name(&format!("modes.mode[{i}].name"), &m.name)?;
-        if !names.insert(m.name.as_str()) {
-            return Err(Error::invalid(format!("modes.mode[{i}].name"), format!("mode name `{}` is repeated", m.name)));
-        }
-    }
-    let pi = from_rows("modes.transition", &mf.transition, Some((q, q)))?;
-    let stochastic = |key: &str, row: &[f64]| -> Result<()> {
-        if row.iter().any(|v| !(*v >= 0.0 && v.is_finite())) {
-            return Err(Error::invalid(key, format!("probabilities must be finite and ≥ 0, got {row:?}")));
-        }
-        let sum: f64 = row.iter().sum();
-        if (sum - 1.0).abs() > 1e-9 {
-            return Err(Error::invalid(key, format!("probabilities must sum to 1, these sum to {sum}")));
-        }
-        Ok(())
-    };
-    for s in 0..q {
-        let row: Vec<f64> = pi.row(s).iter().copied().collect();
-        stochastic(&format!("modes.transition row {} ({})", s + 1, mf.mode[s].name), &row)?;
-    }
-    let (n, nw, ny) = (plant.nx(), plant.nw(), plant.ny());
-    let pick = |key: &str, given: &Option<Rows>, base: &Mat, shape: (usize, usize)| -> Result<Mat> {
-        given.as_ref().map_or(Ok(base.clone()), |r| from_rows(key, r, Some(shape)))
-    };
-    let mut modes = crate::model::plant::Modes {
-        names: mf.mode.iter().map(|m| m.name.clone()).collect(),
-        transition: pi,
-        initial: Vec::new(),
-        a: Vec::new(),
-        b: Vec::new(),
-        c: Vec::new(),
-        d: Vec::new(),
-    };
-    for m in &mf.mode {
-        let key = |x: &str| format!("modes.{}.{x}", m.name);
-        modes.a.push(pick(&key("A"), &m.A, &plant.a, (n, n))?);
-        modes.b.push(pick(&key("B"), &m.B, &plant.b, (n, nw))?);
-        modes.c.push(pick(&key("C"), &m.C, &plant.c, (ny, n))?);
-        modes.d.push(pick(&key("D"), &m.D, &plant.d, (ny, nw))?);
-    }
-    modes.initial = match &mf.initial {
-        Some(p0) => {
-            if p0.len() != q {
-                return Err(Error::invalid("modes.initial", format!("expected {q} probabilities, found {}", p0.len())));
-            }
-            stochastic("modes.initial", p0)?;
-            p0.clone()
-        }
-        None => modes.stationary().ok_or_else(|| {
-            Error::invalid("modes.initial", "the chain has no unique stationary distribution: give p(0) explicitly")
-        })?,
-    };
-    Ok(modes)
 }

@@ -138,7 +138,7 @@ fn check_setting(input: &DesignInput) -> Result<()> {
         Some("the anisotropic theory takes x(0) known (seed 003 (4.7)): set nominal.x0 to zero")
     } else if p.sum_from != 0 || p.first_measurement != 0 || !p.c_steps.is_empty() {
         Some("the anisotropic design needs sum_from = 0, first_measurement = 0 and a constant C")
-    } else if p.modes.is_some() && p.arrival.is_none() {
+    } else if p.switches() && p.arrival().is_none() {
         Some("the anisotropic design covers measurement dropouts (plant.arrival), not general Markov modes")
     } else {
         None
@@ -261,7 +261,7 @@ fn synthesize_balanced(plant: &Plant, level: Level, tuning: &Tuning) -> std::res
     scaled.b = &tm * &plant.b;
     scaled.c = &plant.c * &ti;
     scaled.cz = &plant.cz * &ti;
-    if let Some(p) = plant.arrival {
+    if let Some(p) = plant.arrival() {
         scaled.set_arrival(p);
     }
     let mut syn = synthesize_tuned(&scaled, level, tuning)?;

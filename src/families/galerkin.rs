@@ -79,7 +79,7 @@ impl super::Family for Galerkin {
         let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
         // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
         // truth's r (2M): none at all.
-        for g in realization.steps.iter_mut() {
+        for g in realization.gains.iter_mut().flatten() {
             g.gf = Mat::zeros(2 * p.n, 0);
         }
         // Its state tracks the projected model's, not the truth's modes: declare no M (the string is

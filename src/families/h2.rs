@@ -31,7 +31,7 @@ pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
     let mut out = Vec::with_capacity(plant.steps());
     for t in 0..plant.steps() {
         out.push(p.clone());
-        let (c, d) = (plant.c_at(t), plant.d_at(t));
+        let (c, d) = (&*plant.c_at(t), &*plant.d_at(t));
         let s = c * &p * c.transpose() + d * &w * d.transpose();
         let k = &plant.a * &p * c.transpose() * psd_pinv(&s);
         p = symmetrize(&(&plant.a * &p * plant.a.transpose() + &gb - &k * &s * k.transpose()));

@@ -82,7 +82,7 @@ pub fn recursion(
         if value >= lambda {
             return Err(Infeasible { step: t, terminal, value });
         }
-        let (c, d) = (plant.c_at(t), plant.d_at(t));
+        let (c, d) = (&*plant.c_at(t), &*plant.d_at(t));
         let pinv = p.clone().try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
         let mut m = pinv - plant.cz.transpose() * &plant.cz / lambda;
         let mut theta = Mat::zeros(n, plant.ny());
@@ -127,7 +127,7 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
         .iter()
         .enumerate()
         .map(|(t, th)| Gains {
-            af: &plant.a - th * plant.c_at(t),
+            af: &plant.a - th * &*plant.c_at(t),
             bf: th.clone(),
             cf: plant.cz.clone(),
             df: Mat::zeros(plant.nz(), plant.ny()),

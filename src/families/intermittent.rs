@@ -44,7 +44,7 @@ impl super::Family for Intermittent {
                 "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
             ));
         }
-        if input.plant.modes.is_some() && input.plant.arrival.is_none() {
+        if input.plant.switches() && input.plant.arrival().is_none() {
             return Err(Error::design(
                 input.name,
                 "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
@@ -73,7 +73,7 @@ pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
     let mut predicted = 0.0;
     let mut steps = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
-        let (c, d) = (plant.c_at(k), plant.d_at(k));
+        let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         if plant.counts(k) {
             predicted += (&plant.cz * &pe * plant.cz.transpose() + &plant.dz * &w * plant.dz.transpose()).trace();
         }

@@ -45,8 +45,7 @@ enum PlantChoice {
 /// The plant with every switching matrix replaced by its stationary average, modes removed.
 fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
     let m = plant
-        .modes
-        .as_ref()
+        .modes()
         .ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
     let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
     let avg =
@@ -56,8 +55,7 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
     out.b = avg(&m.b);
     out.c = avg(&m.c);
     out.d = avg(&m.d);
-    out.modes = None;
-    out.arrival = None;
+    out.measurement = crate::model::plant::Measurement::Always;
     Ok(out)
 }
 
@@ -91,9 +89,9 @@ impl super::Family for Kalman {
 pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
     let realization = kalman(plant, &cov, pattern);
     let mut diagnostics = serde_json::Map::new();
-    let ignored = if plant.arrival.is_some() {
+    let ignored = if plant.arrival().is_some() {
         Some(("dropouts", "ignored: designed as if every measurement arrived"))
-    } else if plant.modes.is_some() {
+    } else if plant.switches() {
         Some(("modes", "ignored: designed on the plant's base matrices"))
     } else {
         None
@@ -114,7 +112,7 @@ pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization
     let n = plant.nx();
     let mut steps = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
-        let (c, d) = (plant.c_at(k), plant.d_at(k));
+        let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         let wd = &w * d.transpose();
         let s = symmetrize(&(c * &pbar * c.transpose() + d * &wd));
         let s_inv = psd_pinv(&s);

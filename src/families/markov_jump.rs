@@ -63,7 +63,7 @@ impl super::Family for MarkovJump {
                 "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
             ));
         }
-        let Some(modes) = input.plant.modes.as_ref() else {
+        let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
         };
         let key = format!("filters.{name}.design");
@@ -78,7 +78,7 @@ impl super::Family for MarkovJump {
         let realization = match p.gains {
             GainsKind::Finite => finite(plant, &cov).0,
             GainsKind::Steady => {
-                let st = steady(plant, modes, &w).map_err(|e| Error::design(name, e))?;
+                let st = steady(plant, &modes, &w).map_err(|e| Error::design(name, e))?;
                 diagnostics.insert("stationary_probabilities".into(), st.probabilities.clone().into());
                 diagnostics.insert("stationary_cost".into(), stationary_cost(plant, &st.p).into());
                 diagnostics.insert("riccati_iterations".into(), st.iterations.into());
@@ -86,7 +86,7 @@ impl super::Family for MarkovJump {
             }
             GainsKind::Common => {
                 let t = std::time::Instant::now();
-                let c = common(plant, modes, &w).map_err(|e| Error::design(name, e))?;
+                let c = common(plant, &modes, &w).map_err(|e| Error::design(name, e))?;
                 diagnostics.insert("stationary_cost".into(), c.cost.into());
                 diagnostics.insert("mode_dependent_stationary_cost".into(), c.mode_dependent_cost.into());
                 diagnostics.insert("loss_percent".into(), (100.0 * (c.cost / c.mode_dependent_cost - 1.0)).into());
@@ -134,13 +134,13 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
     let mut gains = Vec::with_capacity(q);
     let mut contrib = Vec::with_capacity(q);
     for s in 0..q {
-        let (a, b, c, d) = (plant.a_of(s), plant.b_of(s), plant.c_of(k, s), plant.d_of(k, s));
+        let (a, b, c, d) = (plant.a_of(s), plant.b_of(s), &*plant.c_of(k, s), &*plant.d_of(k, s));
         let sm = symmetrize(&(c * &p[s] * c.transpose() + prob[s] * (d * w * d.transpose())));
         let kg = (a * &p[s] * c.transpose() + prob[s] * (b * w * d.transpose())) * psd_pinv(&sm);
         contrib.push(a * &p[s] * a.transpose() + prob[s] * (b * w * b.transpose()) - &kg * &sm * kg.transpose());
         gains.push(kg);
     }
-    let pi = plant.modes.as_ref().map_or_else(|| Mat::identity(1, 1), |m| m.transition.clone());
+    let pi = plant.transition();
     let next =
         (0..q).map(|kk| symmetrize(&(0..q).fold(Mat::zeros(n, n), |acc, s| acc + pi[(s, kk)] * &contrib[s]))).collect();
     (gains, next)
@@ -149,7 +149,7 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
 /// The gains of the predictor in mode s with gain K: Af = A_s − K C_s, Bf = K, Cf = Cz.
 fn predictor_gains(plant: &Plant, k: usize, s: usize, kg: &Mat) -> Gains {
     Gains {
-        af: plant.a_of(s) - kg * plant.c_of(k, s),
+        af: plant.a_of(s) - kg * &*plant.c_of(k, s),
         bf: kg.clone(),
         cf: plant.cz.clone(),
         df: Mat::zeros(plant.nz(), plant.ny()),
@@ -223,7 +223,7 @@ fn fixed_point(
     let q = prob.len();
     let n = plant.nx();
     let kc = plant.horizon.max(plant.first_measurement);
-    let m: Vec<Mat> = (0..q).map(|s| plant.a_of(s) - k * plant.c_of(kc, s)).collect();
+    let m: Vec<Mat> = (0..q).map(|s| plant.a_of(s) - k * &*plant.c_of(kc, s)).collect();
     let dim = q * n * n;
     let mut t = Mat::zeros(dim, dim);
     for s in 0..q {
@@ -248,7 +248,7 @@ fn fixed_point(
             v += nalgebra::DVector::from_column_slice(q_weight.as_slice());
         } else {
             // N_kk = Σ_s Π_s,kk p_s (B_s − K D_s) W (B_s − K D_s)ᵀ
-            let bd = plant.b_of(s) - k * plant.d_of(kc, s);
+            let bd = plant.b_of(s) - k * &*plant.d_of(kc, s);
             let ns = nalgebra::DVector::from_column_slice((prob[s] * (&bd * w * bd.transpose())).as_slice());
             for kk in 0..q {
                 let mut v = rhs.rows_mut(kk * n * n, n * n);
@@ -271,7 +271,7 @@ pub fn cost_and_gradient(plant: &Plant, modes: &Modes, prob: &[f64], k: &Mat, w:
     let mut grad = Mat::zeros(k.nrows(), k.ncols());
     for s in 0..q {
         let vbar = (0..q).fold(Mat::zeros(plant.nx(), plant.nx()), |acc, kk| acc + modes.transition[(s, kk)] * &v[kk]);
-        let (c, d) = (plant.c_of(kc, s), plant.d_of(kc, s));
+        let (c, d) = (&*plant.c_of(kc, s), &*plant.d_of(kc, s));
         let ms = plant.a_of(s) - k * c;
         let bd = plant.b_of(s) - k * d;
         grad -= 2.0 * &vbar * (&ms * &p[s] * c.transpose() + prob[s] * (&bd * w * d.transpose()));

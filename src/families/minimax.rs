@@ -147,9 +147,9 @@ pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> 
     for n in 0..plant.steps() {
         let wn = nx + n * nw;
         if plant.measured(n) {
-            let mut z = plant.c_at(n) * &x;
+            let mut z = &*plant.c_at(n) * &x;
             let mut zw = z.view_mut((0, wn), (ny, nw));
-            zw += plant.d_at(n);
+            zw += &*plant.d_at(n);
             m.view_mut((row, 0), (ny, cols)).copy_from(&z);
             row += ny;
         }

@@ -27,10 +27,9 @@ pub struct Gains {
 #[derive(Clone, Debug)]
 pub struct Realization {
     pub s0: Vector,
-    /// Gains for k = 0..=N (the Af, Bf, Gf of step N are never used).
-    pub steps: Vec<Gains>,
-    /// Mode-indexed gains [k][mode], replacing `steps` when not empty.
-    pub by_mode: Vec<Vec<Gains>>,
+    /// gains[k][θ] for k = 0..=N (the Af, Bf, Gf of step N are never used): one entry per mode of
+    /// the plant for a mode-indexed realization, a single entry (used in every mode) otherwise.
+    pub gains: Vec<Vec<Gains>>,
     /// M: what the filter's state tracks, s[k] ≈ M x[k] (the identity for a state estimator), if
     /// the family declares it. The exact analysis and the Monte Carlo may then carry ε = s − M x
     /// instead of s, but only at steps and modes where they have checked that the realization
@@ -40,7 +39,7 @@ pub struct Realization {
 
 impl Realization {
     pub fn new(s0: Vector, steps: Vec<Gains>) -> Self {
-        Realization { s0, steps, by_mode: Vec::new(), tracks: None }
+        Realization { s0, gains: steps.into_iter().map(|g| vec![g]).collect(), tracks: None }
     }
     /// The same realization, declaring that its state estimates M x (see `tracks`).
     pub fn tracking(mut self, m: Mat) -> Self {
@@ -49,13 +48,22 @@ impl Realization {
     }
     /// A realization that uses the gains of the observed mode: `by_mode[k][θ]`.
     pub fn mode_indexed(s0: Vector, by_mode: Vec<Vec<Gains>>) -> Self {
-        let steps = by_mode.iter().map(|g| g[0].clone()).collect();
-        Realization { s0, steps, by_mode, tracks: None }
+        Realization { s0, gains: by_mode, tracks: None }
+    }
+    /// Whether the gains depend on the observed mode.
+    pub fn is_mode_indexed(&self) -> bool {
+        self.gains.iter().any(|g| g.len() > 1)
+    }
+    /// The gains of step k of a realization that does not read the mode.
+    pub fn step(&self, k: usize) -> &Gains {
+        debug_assert!(self.gains[k].len() == 1, "step() of a mode-indexed realization");
+        &self.gains[k][0]
     }
     /// The gains of step k in mode θ.
     #[inline]
     pub fn gains(&self, k: usize, mode: usize) -> &Gains {
-        if self.by_mode.is_empty() { &self.steps[k] } else { &self.by_mode[k][mode] }
+        let g = &self.gains[k];
+        if g.len() == 1 { &g[0] } else { &g[mode] }
     }
 
     pub fn ns(&self) -> usize {
@@ -83,20 +91,17 @@ impl Realization {
 
     /// Checks sizes against the plant and, for prediction, that ẑ[k] does not use y[k].
     pub fn check(&self, name: &str, plant: &Plant, pattern: Pattern) -> Result<()> {
-        if self.steps.len() != plant.steps() {
+        if self.gains.len() != plant.steps() {
             return Err(Error::design(
                 name,
-                format!("{} steps of gains for a horizon of {}", self.steps.len(), plant.steps()),
+                format!("{} steps of gains for a horizon of {}", self.gains.len(), plant.steps()),
             ));
         }
         let ns = self.ns();
-        if !self.by_mode.is_empty()
-            && (self.by_mode.len() != plant.steps() || self.by_mode.iter().any(|g| g.len() != plant.n_modes()))
-        {
+        if self.gains.iter().any(|g| g.len() != 1 && g.len() != plant.n_modes()) {
             return Err(Error::design(name, format!("mode-indexed gains need {} modes at each step", plant.n_modes())));
         }
-        let modal = self.by_mode.iter().enumerate().flat_map(|(k, gs)| gs.iter().map(move |g| (k, g)));
-        for (k, g) in self.steps.iter().enumerate().chain(modal) {
+        for (k, g) in self.gains.iter().enumerate().flat_map(|(k, gs)| gs.iter().map(move |g| (k, g))) {
             let ok = g.af.shape() == (ns, ns)
                 && g.bf.shape() == (ns, plant.ny())
                 && g.cf.shape() == (plant.nz(), ns)

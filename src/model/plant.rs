@@ -13,12 +13,26 @@
 //! and initial distribution p(0), independent of x0 and of the noise.
 //!
 //! Measurement dropouts (seed 003 (4.30), SPEC §0) are the two-mode case of independent modes: with
-//! `arrival = Some(p)` the measurement is y[k] = λ[k] C x[k] + D w[k], λ[k] ~ Bernoulli(p), i.e.
-//! mode 0 ("lost", C_0 = 0) with probability 1 − p and mode 1 ("arrived", C_1 = C) with probability p,
-//! every row of Π equal to (1 − p, p). Equivalently C[k] = p C + (λ[k] − p) C, the multiplicative
-//! noise form the anisotropic family is written in.
+//! [`Measurement::Dropout`] the measurement is y[k] = λ[k] C x[k] + D w[k], λ[k] ~ Bernoulli(p),
+//! i.e. mode 0 ("lost", C_0 = 0) with probability 1 − p and mode 1 ("arrived", C_1 = C) with
+//! probability p, every row of Π equal to (1 − p, p). Equivalently C[k] = p C + (λ[k] − p) C, the
+//! multiplicative noise form the anisotropic family is written in. The modes of a dropout plant
+//! are derived from p and the plant's matrices when asked for, never stored beside them.
+
+use std::borrow::Cow;
 
 use crate::numerics::linalg::{Mat, Vector, block_diag};
+
+/// How the measurement depends on a random mode (SPEC §0, §3).
+#[derive(Clone, Debug)]
+pub enum Measurement {
+    /// y[k] = C[k] x[k] + D w[k] at every measured step.
+    Always,
+    /// Seed 003 (4.30): the measurement arrives with probability `arrival`, independently over k.
+    Dropout { arrival: f64 },
+    /// Seed 001: the matrices switch with a Markov chain.
+    Markov(Modes),
+}
 
 /// Information pattern (SPEC §0): filtering lets ẑ[k] use y[k]; prediction uses y[0..k-1] only.
 #[derive(Clone, Copy, Debug, serde::Deserialize, PartialEq, Eq, serde::Serialize)]
@@ -50,13 +64,8 @@ pub struct Plant {
     /// Time-varying measurement matrices C[k], k = 0..N (regressors Φ[k] of seed 002 §5), or empty
     /// when C is constant.
     pub c_steps: Vec<Mat>,
-    /// Probability p that a measurement arrives (λ[k] = 1); None when every measurement arrives.
-    /// Set with [`Plant::set_arrival`], which also builds the two modes.
-    pub arrival: Option<f64>,
-    /// The Markov modes, if the matrices switch (dropouts included).
-    pub modes: Option<Modes>,
-    c_none: Mat,
-    d_none: Mat,
+    /// Whether measurements drop out or the matrices switch.
+    pub measurement: Measurement,
 }
 
 impl Plant {
@@ -74,8 +83,6 @@ impl Plant {
         known_input: Vec<Vector>,
         noise_blocks: Vec<(String, usize)>,
     ) -> Self {
-        let c_none = Mat::zeros(c.nrows(), c.ncols());
-        let d_none = Mat::zeros(d.nrows(), d.ncols());
         Plant {
             horizon,
             a,
@@ -90,10 +97,7 @@ impl Plant {
             noise_blocks,
             sum_from: 0,
             c_steps: Vec::new(),
-            arrival: None,
-            modes: None,
-            c_none,
-            d_none,
+            measurement: Measurement::Always,
         }
     }
     pub fn nx(&self) -> usize {
@@ -119,79 +123,121 @@ impl Plant {
         k >= self.first_measurement
     }
     /// C[k]: zero before the first measurement.
-    pub fn c_at(&self, k: usize) -> &Mat {
+    pub fn c_at(&self, k: usize) -> Cow<'_, Mat> {
         match (self.measured(k), self.c_steps.get(k)) {
-            (false, _) => &self.c_none,
-            (true, Some(c)) => c,
-            (true, None) => &self.c,
+            (false, _) => Cow::Owned(Mat::zeros(self.c.nrows(), self.c.ncols())),
+            (true, Some(c)) => Cow::Borrowed(c),
+            (true, None) => Cow::Borrowed(&self.c),
+        }
+    }
+    /// D[k]: zero before the first measurement.
+    pub fn d_at(&self, k: usize) -> Cow<'_, Mat> {
+        if self.measured(k) { Cow::Borrowed(&self.d) } else { Cow::Owned(Mat::zeros(self.d.nrows(), self.d.ncols())) }
+    }
+    /// p, the probability that a measurement arrives, for a plant with dropouts.
+    pub fn arrival(&self) -> Option<f64> {
+        match self.measurement {
+            Measurement::Dropout { arrival } => Some(arrival),
+            _ => None,
         }
     }
     /// p(1 − p), the variance of λ[k] (0 without dropouts).
     pub fn dropout_variance(&self) -> f64 {
-        self.arrival.map_or(0.0, |p| p * (1.0 - p))
+        self.arrival().map_or(0.0, |p| p * (1.0 - p))
+    }
+    /// E λ[k] = p (1 without dropouts).
+    pub fn arrival_mean(&self) -> f64 {
+        self.arrival().unwrap_or(1.0)
     }
     /// Makes the measurement arrive with probability p: the two modes of the module docs.
     pub fn set_arrival(&mut self, p: f64) {
-        self.arrival = Some(p);
-        let lost = Mat::zeros(self.c.nrows(), self.c.ncols());
-        self.modes = Some(Modes {
-            names: vec!["lost".into(), "arrived".into()],
-            transition: Mat::from_row_slice(2, 2, &[1.0 - p, p, 1.0 - p, p]),
-            initial: vec![1.0 - p, p],
-            a: vec![self.a.clone(); 2],
-            b: vec![self.b.clone(); 2],
-            c: vec![lost, self.c.clone()],
-            d: vec![self.d.clone(); 2],
-        });
+        self.measurement = Measurement::Dropout { arrival: p };
+    }
+    /// The modes: a Markov plant's own, a dropout plant's two (derived from p), None otherwise.
+    pub fn modes(&self) -> Option<Cow<'_, Modes>> {
+        match &self.measurement {
+            Measurement::Always => None,
+            Measurement::Dropout { arrival: p } => Some(Cow::Owned(Modes {
+                names: vec!["lost".into(), "arrived".into()],
+                transition: Mat::from_row_slice(2, 2, &[1.0 - p, *p, 1.0 - p, *p]),
+                initial: vec![1.0 - p, *p],
+                a: vec![self.a.clone(); 2],
+                b: vec![self.b.clone(); 2],
+                c: vec![Mat::zeros(self.c.nrows(), self.c.ncols()), self.c.clone()],
+                d: vec![self.d.clone(); 2],
+            })),
+            Measurement::Markov(m) => Some(Cow::Borrowed(m)),
+        }
+    }
+    /// Whether the matrices depend on a random mode (dropouts included).
+    pub fn switches(&self) -> bool {
+        !matches!(self.measurement, Measurement::Always)
+    }
+    /// Π, the transition matrix of the modes ([1] for a plant that does not switch).
+    pub fn transition(&self) -> Mat {
+        match &self.measurement {
+            Measurement::Always => Mat::identity(1, 1),
+            Measurement::Dropout { arrival: p } => Mat::from_row_slice(2, 2, &[1.0 - p, *p, 1.0 - p, *p]),
+            Measurement::Markov(m) => m.transition.clone(),
+        }
+    }
+    /// p(0), the distribution of the first mode ([1] for a plant that does not switch).
+    fn initial(&self) -> Vec<f64> {
+        match &self.measurement {
+            Measurement::Always => vec![1.0],
+            Measurement::Dropout { arrival: p } => vec![1.0 - p, *p],
+            Measurement::Markov(m) => m.initial.clone(),
+        }
     }
     /// Number of modes (1 for a plant that does not switch).
     pub fn n_modes(&self) -> usize {
-        self.modes.as_ref().map_or(1, |m| m.names.len())
+        match &self.measurement {
+            Measurement::Always => 1,
+            Measurement::Dropout { .. } => 2,
+            Measurement::Markov(m) => m.names.len(),
+        }
     }
     pub fn a_of(&self, mode: usize) -> &Mat {
-        self.modes.as_ref().map_or(&self.a, |m| &m.a[mode])
+        match &self.measurement {
+            Measurement::Markov(m) => &m.a[mode],
+            _ => &self.a,
+        }
     }
     pub fn b_of(&self, mode: usize) -> &Mat {
-        self.modes.as_ref().map_or(&self.b, |m| &m.b[mode])
+        match &self.measurement {
+            Measurement::Markov(m) => &m.b[mode],
+            _ => &self.b,
+        }
     }
-    /// C_θ[k]: zero before the first measurement.
-    pub fn c_of(&self, k: usize, mode: usize) -> &Mat {
-        match &self.modes {
-            Some(m) if self.measured(k) => &m.c[mode],
+    /// C_θ[k]: zero before the first measurement and when a measurement is lost.
+    pub fn c_of(&self, k: usize, mode: usize) -> Cow<'_, Mat> {
+        match &self.measurement {
+            Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(&m.c[mode]),
+            Measurement::Dropout { .. } if mode == 0 => Cow::Owned(Mat::zeros(self.c.nrows(), self.c.ncols())),
             _ => self.c_at(k),
         }
     }
     /// D_θ[k]: zero before the first measurement.
-    pub fn d_of(&self, k: usize, mode: usize) -> &Mat {
-        match &self.modes {
-            Some(m) if self.measured(k) => &m.d[mode],
+    pub fn d_of(&self, k: usize, mode: usize) -> Cow<'_, Mat> {
+        match &self.measurement {
+            Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(&m.d[mode]),
             _ => self.d_at(k),
         }
     }
     /// p(k) = P(θ[k] = ·) for k = 0..N ([1] for a plant that does not switch).
     pub fn mode_probabilities(&self) -> Vec<Vec<f64>> {
-        let Some(m) = &self.modes else { return vec![vec![1.0]; self.steps()] };
+        let (pi, mut p) = (self.transition(), self.initial());
         let mut out = Vec::with_capacity(self.steps());
-        let mut p = m.initial.clone();
         for _ in 0..self.steps() {
-            let next = (0..p.len()).map(|k| (0..p.len()).map(|s| p[s] * m.transition[(s, k)]).sum()).collect();
+            let next = (0..p.len()).map(|k| (0..p.len()).map(|s| p[s] * pi[(s, k)]).sum()).collect();
             out.push(std::mem::replace(&mut p, next));
         }
         out
     }
     /// Whether θ[k] are independent over k with one distribution (every row of Π equal to p(0)).
     pub fn independent_modes(&self) -> bool {
-        self.modes.as_ref().is_none_or(|m| {
-            (0..m.transition.nrows()).all(|s| (0..m.initial.len()).all(|k| m.transition[(s, k)] == m.initial[k]))
-        })
-    }
-    /// E λ[k] = p (1 without dropouts).
-    pub fn arrival_mean(&self) -> f64 {
-        self.arrival.unwrap_or(1.0)
-    }
-    /// D[k]: zero before the first measurement.
-    pub fn d_at(&self, k: usize) -> &Mat {
-        if self.measured(k) { &self.d } else { &self.d_none }
+        let (pi, p0) = (self.transition(), self.initial());
+        (0..pi.nrows()).all(|s| (0..p0.len()).all(|k| pi[(s, k)] == p0[k]))
     }
     /// r[k], or None when the plant has no known input.
     pub fn r_at(&self, k: usize) -> Option<&Vector> {

@@ -83,7 +83,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &
         .map(|(e, o)| {
             let (scenarios, filters) = run_json(e, o);
             serde_json::json!({
-                "variant": e.variant, "arrival": e.plant.arrival, "anisotropy": e.anisotropy,
+                "variant": e.variant, "arrival": e.plant.arrival(), "anisotropy": e.anisotropy,
                 "design_seconds": o.design_seconds, "total_seconds": o.total_seconds,
                 "scenarios": scenarios, "filters": filters,
             })

@@ -307,10 +307,10 @@ fn gains<'a>(exp: &'a Experiment, out: &RunOutcome) -> Result<DataFrame> {
         let r = &d.design.realization;
         push(&spec.name, 0, None, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
         // A mode-indexed realization has one set of gains per (step, mode); others have mode null.
-        let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if r.by_mode.is_empty() {
-            r.steps.iter().enumerate().map(|(k, g)| (k, None, g)).collect()
+        let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if !r.is_mode_indexed() {
+            r.gains.iter().enumerate().map(|(k, g)| (k, None, &g[0])).collect()
         } else {
-            r.by_mode
+            r.gains
                 .iter()
                 .enumerate()
                 .flat_map(|(k, gs)| gs.iter().enumerate().map(move |(j, g)| (k, Some(j as u32), g)))

@@ -8,6 +8,8 @@
 
 use rayon::prelude::*;
 
+use std::borrow::Cow;
+
 use crate::analysis::exact::ErrorForm;
 use crate::filter::design::PerTrialBound;
 use crate::filter::realization::Realization;
@@ -122,16 +124,22 @@ pub struct PlantOps {
 impl PlantOps {
     pub fn new(plant: &Plant) -> Self {
         let mut ops = Vec::new();
-        let mut seen = std::collections::HashMap::<*const Mat, usize>::new();
-        let mut index = |m: &Mat| {
-            *seen.entry(m as *const Mat).or_insert_with(|| {
-                ops.push(LinOp::new(m));
+        // One operator per distinct matrix: the plant's own by address, the zero matrices of
+        // steps without a measurement (made on request, so without a lasting address) by shape.
+        let mut seen = std::collections::HashMap::<(*const Mat, usize, usize), usize>::new();
+        let mut index = |m: Cow<'_, Mat>| {
+            let key = match &m {
+                Cow::Borrowed(b) => (*b as *const Mat, 0, 0),
+                Cow::Owned(z) => (std::ptr::null(), z.nrows(), z.ncols()),
+            };
+            *seen.entry(key).or_insert_with(|| {
+                ops.push(LinOp::new(&m));
                 ops.len() - 1
             })
         };
-        let modes = plant.modes.as_ref().map_or(1, |m| m.a.len());
-        let a = (0..modes).map(|s| index(plant.a_of(s))).collect();
-        let b = (0..modes).map(|s| index(plant.b_of(s))).collect();
+        let modes = plant.n_modes();
+        let a = (0..modes).map(|s| index(Cow::Borrowed(plant.a_of(s)))).collect();
+        let b = (0..modes).map(|s| index(Cow::Borrowed(plant.b_of(s)))).collect();
         let (mut c, mut d) = (Vec::new(), Vec::new());
         for k in 0..plant.steps() {
             for s in 0..modes {
@@ -139,7 +147,7 @@ impl PlantOps {
                 d.push(index(plant.d_of(k, s)));
             }
         }
-        let (cz, dz) = (index(&plant.cz), index(&plant.dz));
+        let (cz, dz) = (index(Cow::Borrowed(&plant.cz)), index(Cow::Borrowed(&plant.dz)));
         PlantOps { ops, modes, a, b, c, d, cz, dz }
     }
     fn a(&self, mode: usize) -> &LinOp {

@@ -210,15 +210,14 @@ fn intermittent_riccati_is_its_exact_error_and_without_dropouts_is_kalman() {
     assert!((predicted - exact).abs() <= 1e-9 * exact, "Riccati {predicted} vs exact {exact}");
     // Perturbing its gain at one step makes it worse (it is the minimum-variance filter of its form).
     let mut worse = real.clone();
-    worse.steps[50].bf[(0, 0)] += 0.05;
-    worse.steps[50].af = &exp.plant.a - 0.95 * &worse.steps[50].bf * &exp.plant.c;
+    worse.gains[50][0].bf[(0, 0)] += 0.05;
+    worse.gains[50][0].af = &exp.plant.a - 0.95 * &worse.gains[50][0].bf * &exp.plant.c;
     assert!(exact::error(&exp.plant, &worse, &exp.nominal).total > exact);
     let mut plant = exp.plant.clone();
-    plant.arrival = None;
-    plant.modes = None;
+    plant.measurement = filterbench::model::plant::Measurement::Always;
     let (mv, _) = intermittent::predictor(&plant, &exp.nominal);
     let kf = kalman::kalman(&plant, &exp.nominal, Pattern::Prediction);
-    for (a, b) in mv.steps.iter().zip(&kf.steps) {
+    for (a, b) in mv.gains.iter().flatten().zip(kf.gains.iter().flatten()) {
         assert!((&a.bf - &b.bf).amax() <= 1e-12 && (&a.af - &b.af).amax() <= 1e-12);
     }
 }
@@ -229,9 +228,6 @@ fn a_failed_sdp_is_a_clear_error_with_clarabel_status() {
     // a plant scaled beyond what the interior-point method can represent.
     let mut exp = short("p=0.95", 5);
     exp.plant.b *= 1e160;
-    if let Some(m) = exp.plant.modes.as_mut() {
-        m.b.iter_mut().for_each(|b| *b *= 1e160);
-    }
     let err = anisotropic::synthesize(&exp.plant, anisotropic::Level::Anisotropy(1.0)).err().expect("fails");
     eprintln!("{err}");
     assert!(err.contains("clarabel status"), "{err}");

@@ -84,15 +84,15 @@ fn perturbing_any_gain_increases_the_exact_error() {
                 let g: f64 = StandardNormal.sample(&mut rng);
                 0.05 * g
             });
-            r.steps[k].bf += &dl;
-            r.steps[k].af -= &dl * &pl.c;
+            r.gains[k][0].bf += &dl;
+            r.gains[k][0].af -= &dl * &pl.c;
             if pattern == Pattern::Filtering {
                 let dz = Mat::from_fn(3, 1, |_, _| {
                     let g: f64 = StandardNormal.sample(&mut rng);
                     0.05 * g
                 });
-                r.steps[k].df += &dz;
-                r.steps[k].cf -= &dz * &pl.c;
+                r.gains[k][0].df += &dz;
+                r.gains[k][0].cf -= &dz * &pl.c;
             }
             let j = exact::error(pl, &r, nom).total;
             assert!(j > j0, "{pattern:?}: a perturbed gain at step {k} gives {j} ≤ the Kalman error {j0}");

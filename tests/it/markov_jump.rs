@@ -11,7 +11,8 @@ use crate::common;
 fn common_gain_gradient_matches_finite_differences() {
     for v in ["slow_chain", "fast_chain"] {
         let exp = common::variant("markov_jump", v, 100);
-        let modes = exp.plant.modes.as_ref().unwrap();
+        let modes = exp.plant.modes().unwrap();
+        let modes = &*modes;
         let w = exp.nominal.w();
         let prob = modes.stationary().unwrap();
         let st = markov_jump::steady(&exp.plant, modes, &w).unwrap();
@@ -59,8 +60,8 @@ fn per_mode_mc(
         for k in 0..p.steps() {
             let th = draw.modes[k];
             let wk = draw.w.column(k);
-            y.gemv(1.0, p.c_of(k, th), &x, 0.0);
-            y.gemv(1.0, p.d_of(k, th), &wk, 1.0);
+            y.gemv(1.0, &*p.c_of(k, th), &x, 0.0);
+            y.gemv(1.0, &*p.d_of(k, th), &wk, 1.0);
             z.gemv(1.0, &p.cz, &x, 0.0);
             z.gemv(1.0, &p.dz, &wk, 1.0);
             real.output(k, th, &s, &y, &mut zhat);
@@ -118,7 +119,7 @@ fn one_mode_is_the_kalman_predictor() {
     let kf =
         filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::model::plant::Pattern::Prediction);
     for k in 0..exp.plant.steps() {
-        let (a, b) = (mj.gains(k, 0), &kf.steps[k]);
+        let (a, b) = (mj.gains(k, 0), kf.step(k));
         // Equal up to the order of floating-point operations.
         assert!((&a.bf - &b.bf).amax() <= 1e-12 * b.bf.amax().max(1.0), "step {k}: K");
         assert!((&a.af - &b.af).amax() <= 1e-12 * b.af.amax().max(1.0), "step {k}: A − KC");

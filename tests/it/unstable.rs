@@ -30,7 +30,7 @@ fn joseph_kalman(exp: &Experiment) -> f64 {
     let mut pbar = exp.nominal.x0().clone();
     let mut total = 0.0;
     for k in 0..pl.steps() {
-        let c = pl.c_at(k);
+        let c = &*pl.c_at(k);
         let (p, kg) = if pl.measured(k) {
             let s = c * &pbar * c.transpose() + &r;
             let kg = &pbar * c.transpose() * s.try_inverse().expect("S ≻ 0");
@@ -57,7 +57,7 @@ fn joseph_kalman(exp: &Experiment) -> f64 {
 /// P' = Σ_λ P(λ) [(A − K_λ Cλ) P (·)ᵀ + K_λ R K_λᵀ] + Q; returns Σ tr(Cz P Czᵀ).
 fn joseph_dropout_predictor(exp: &Experiment) -> f64 {
     let pl = &exp.plant;
-    let p_arr = pl.arrival.expect("dropout plant");
+    let p_arr = pl.arrival().expect("dropout plant");
     let w = exp.nominal.w();
     let (q, r) = (&pl.b * &w * pl.b.transpose(), &pl.d * &w * pl.d.transpose());
     let mut p = exp.nominal.x0().clone();
@@ -66,7 +66,7 @@ fn joseph_dropout_predictor(exp: &Experiment) -> f64 {
         if pl.counts(k) {
             total += (&pl.cz * &p * pl.cz.transpose()).trace();
         }
-        let c = pl.c_at(k);
+        let c = &*pl.c_at(k);
         let s = c * &p * c.transpose() + &r;
         let kg = &pl.a * &p * c.transpose() * s.try_inverse().expect("S ≻ 0");
         let akc = &pl.a - &kg * c;
@@ -325,7 +325,7 @@ fn a_declared_m_that_does_not_hold_is_not_used() {
     let mut exp = common::baseline(10);
     exp.plant.a = Mat::identity(3, 3) * 1.5;
     let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
-    real.steps[10].af[(0, 0)] += 1e-3;
+    real.gains[10][0].af[(0, 0)] += 1e-3;
     let why = exact::error_form(&exp.plant, &real).expect_err("the identity is checked");
     assert!(why.contains("step 10") && why.contains("Af M + Bf C − M A"), "{why}");
     let e = exact::error(&exp.plant, &real, &exp.nominal);
@@ -340,7 +340,7 @@ fn an_error_double_precision_cannot_resolve_is_refused_with_the_step_and_digits(
     exp.plant.a = Mat::identity(3, 3) * 1.5;
     exp.plant.horizon = 100;
     let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
-    real.steps[1].af[(0, 0)] += 1e-7;
+    real.gains[1][0].af[(0, 0)] += 1e-7;
     let e = exact::error(&exp.plant, &real, &exp.nominal);
     let msg = e.trusted("perturbed").expect_err("refused").to_string();
     assert!(

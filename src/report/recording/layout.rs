@@ -141,7 +141,7 @@ fn trajectory_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<O
         // The estimates of the filters not shown are in the same entities, hidden series.
         let mut zc = vec![plus(&at(&z, "truth")), plus(&at(&z, "estimates")), plus(&at(&z, "dropouts"))];
         let ec = vec![plus(&at(&e, "errors")), plus(&at(&e, "dropouts"))];
-        if exp.plant.arrival.is_none() && exp.plant.modes.is_some() {
+        if exp.plant.arrival().is_none() && exp.plant.switches() {
             zc.push(plus(&run.at(&["trajectories", &sc.name, &trial, "mode"])));
         }
         let of = if tr.z.nrows() > COMPONENTS_SHOWN { format!(" of {}", tr.z.nrows()) } else { String::new() };

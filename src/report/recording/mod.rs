@@ -242,7 +242,7 @@ fn trajectories(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
         let trial = format!("trial_{}", tr.trial);
         let n = tr.z.ncols();
         let steps: Vec<i64> = (0..n as i64).collect();
-        let lost: Vec<usize> = match exp.plant.arrival {
+        let lost: Vec<usize> = match exp.plant.arrival() {
             Some(_) => (0..tr.modes.len()).filter(|k| tr.modes[*k] == 0).collect(),
             None => Vec::new(),
         };
@@ -259,7 +259,7 @@ fn trajectories(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
             w.series(at(&z, "dropouts"), &lost_style, &lost_steps, lost.iter().map(|k| tr.z[(j, *k)]).collect(), 1)?;
             w.series(at(&e, "dropouts"), &lost_style, &lost_steps, vec![0.0; lost.len()], 1)?;
         }
-        if exp.plant.arrival.is_none() && exp.plant.modes.is_some() {
+        if exp.plant.arrival().is_none() && exp.plant.switches() {
             let entity = run.at(&["trajectories", &sc.name, &trial, "mode"]);
             let s = series_style(style::MODE, style::ESTIMATE_WIDTH, "Markov mode")
                 .with_interpolation_mode(rerun::components::InterpolationMode::StepAfter);

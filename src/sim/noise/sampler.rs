@@ -66,7 +66,7 @@ impl NoiseSampler {
             steps: plant.steps(),
             w_mean: None,
             joint: None,
-            chain: plant.modes.clone(),
+            chain: plant.modes().map(std::borrow::Cow::into_owned),
         }
     }
 

@@ -1,0 +1,268 @@
+//! The forward recursions of the module docs: per-mode raw moments, the mean-plus-Lyapunov
+//! recursion, the modal (block-diagonal) fast path, and how many digits each result keeps.
+
+use super::*;
+
+/// What drives the recursion besides x0: white noise (covariance and optional mean per step) or a
+/// joint input J with mean and raw second moment over the whole horizon.
+pub(super) enum Input<'a> {
+    White { w: &'a Mat, mean: Option<&'a Mat> },
+    Joint { mean: &'a Vector, raw: &'a Mat },
+}
+
+/// The moments at k = 0 before the modes are mixed in: mean m, raw second moment Y and, for a joint
+/// input, the cross moment Z = E[ξ Jᵀ].
+pub(super) struct Start {
+    m: Vector,
+    y: Mat,
+    z: Option<Mat>,
+}
+
+impl Start {
+    /// The moments of P ξ.
+    pub(super) fn transformed(&self, p: &Mat) -> Start {
+        Start { m: p * &self.m, y: symmetrize(&(p * &self.y * p.transpose())), z: self.z.as_ref().map(|z| p * z) }
+    }
+}
+
+/// ξ[0] = (x0, s0) in plant coordinates, with x0 = E x0 + x0_shift + δ, Cov δ = x0_cov.
+pub(super) fn start(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat, input: &Input) -> Start {
+    let (n, ns) = (plant.nx(), real.ns());
+    let nxi = n + ns;
+    let mut m0 = Vector::zeros(nxi);
+    m0.rows_mut(0, n).copy_from(&(&plant.x0_mean + x0_shift));
+    m0.rows_mut(n, ns).copy_from(&real.s0);
+    let mut y0 = &m0 * m0.transpose();
+    let mut top = y0.view_mut((0, 0), (n, n));
+    top += x0_cov;
+    let z0 = match input {
+        Input::White { .. } => None,
+        Input::Joint { mean, raw } => {
+            let dj = mean.len();
+            let mut z = Mat::zeros(nxi, dj);
+            z.view_mut((0, 0), (n, dj)).copy_from(&(&plant.x0_mean * mean.transpose() + raw.rows(0, n)));
+            z.view_mut((n, 0), (ns, dj)).copy_from(&(&real.s0 * mean.transpose()));
+            Some(z)
+        }
+    };
+    Start { m: m0, y: y0, z: z0 }
+}
+
+/// Σ_ab |A|_ab |B|_ab: the magnitude of ⟨A, B⟩'s terms.
+pub(super) fn abs_dot(a: &Mat, b: &Mat) -> f64 {
+    a.iter().zip(b.iter()).map(|(x, y)| (x * y).abs()).sum()
+}
+
+/// The per-mode raw-moment recursion of the module docs, in whatever coordinates `system` gives
+/// the matrices of (the state dimension is the start's).
+pub(super) fn propagate(
+    plant: &Plant,
+    start: &Start,
+    input: &Input,
+    system: &dyn Fn(usize) -> Vec<Augmented>,
+) -> ExactError {
+    let nw = plant.nw();
+    let nxi = start.m.len();
+    let probs = plant.mode_probabilities();
+    let q = plant.n_modes();
+    let transition = plant.transition();
+    let mut m: Vec<Vector> = probs[0].iter().map(|p| &start.m * *p).collect();
+    let mut y: Vec<Mat> = probs[0].iter().map(|p| &start.y * *p).collect();
+    let mut z: Vec<Option<Mat>> = probs[0].iter().map(|p| start.z.as_ref().map(|z| z * *p)).collect();
+    let mut per_step = Vec::with_capacity(plant.steps());
+    let mut per_mode = vec![0.0; q];
+    let mut magnitudes = Vec::with_capacity(plant.steps());
+    for k in 0..plant.steps() {
+        let augs = system(k);
+        // The moments of w[k]: mean μ and raw second moment R (zero when w[k] is not drawn).
+        let (mu, rkk, off) = match input {
+            Input::White { w, mean } => {
+                let mu = mean.map_or_else(|| Vector::zeros(nw), |m| m.column(k).into_owned());
+                let r = *w + &mu * mu.transpose();
+                (mu, r, None)
+            }
+            Input::Joint { mean, raw } => match joint_offset(plant, mean.len(), k) {
+                Some(o) => (mean.rows(o, nw).into_owned(), raw.view((o, o), (nw, nw)).into_owned(), Some(o)),
+                None => (Vector::zeros(nw), Mat::zeros(nw, nw), None),
+            },
+        };
+        let r = plant.r_at(k);
+        let mut mse = 0.0;
+        let mut magnitude = 0.0;
+        let mut next: Vec<(Vector, Mat, Option<Mat>)> = Vec::with_capacity(q);
+        let counted = plant.counts(k);
+        for (j, a) in augs.iter().enumerate() {
+            let pj = probs[k][j];
+            // E[ξ w[k]ᵀ 1{θ = j}]: from the cross moment, or m_j μᵀ when w[k] is independent of ξ.
+            let zk = match (&z[j], off) {
+                (Some(zj), Some(o)) => zj.columns(o, nw).into_owned(),
+                (Some(_), None) => Mat::zeros(nxi, nw),
+                (None, _) => &m[j] * mu.transpose(),
+            };
+            let ej = (&a.h * &y[j] * a.h.transpose()).trace()
+                + 2.0 * (&a.h * &zk * a.g.transpose()).trace()
+                + pj * (&a.g * &rkk * a.g.transpose()).trace();
+            let (habs, gabs) = (a.h.abs(), a.g.abs());
+            magnitude += abs_dot(&(habs.transpose() * &habs), &y[j])
+                + 2.0 * abs_dot(&(habs.transpose() * &gabs), &zk)
+                + pj * abs_dot(&(gabs.transpose() * &gabs), &rkk);
+            mse += ej;
+            if counted {
+                per_mode[j] += ej;
+            }
+            if k == plant.horizon {
+                continue;
+            }
+            let c = r.map_or_else(|| Vector::zeros(nxi), |r| &a.r_map * r);
+            let v = &a.f * &m[j] + pj * (&a.e * &mu);
+            let fze = &a.f * &zk * a.e.transpose();
+            let yn = &a.f * &y[j] * a.f.transpose()
+                + &fze
+                + fze.transpose()
+                + pj * (&a.e * &rkk * a.e.transpose())
+                + &c * v.transpose()
+                + &v * c.transpose()
+                + pj * (&c * c.transpose());
+            let zn = match (&z[j], input) {
+                (Some(zj), Input::Joint { mean, raw }) => {
+                    let mut zn = &a.f * zj + pj * (&c * mean.transpose());
+                    if let Some(o) = off {
+                        zn += pj * (&a.e * raw.rows(o, nw));
+                    }
+                    Some(zn)
+                }
+                _ => None,
+            };
+            next.push((v + pj * c, yn, zn));
+        }
+        per_step.push(mse);
+        magnitudes.push(magnitude);
+        if k == plant.horizon {
+            break;
+        }
+        // Mix by the chain: moments of θ[k+1] = i collect Π_ji times those of θ[k] = j.
+        for i in 0..q {
+            m[i] = (0..q).fold(Vector::zeros(nxi), |acc, j| acc + transition[(j, i)] * &next[j].0);
+            y[i] = symmetrize(&(0..q).fold(Mat::zeros(nxi, nxi), |acc, j| acc + transition[(j, i)] * &next[j].1));
+            z[i] = next[0].2.as_ref().map(|z0| {
+                (0..q).fold(Mat::zeros(z0.nrows(), z0.ncols()), |acc, j| {
+                    acc + transition[(j, i)] * next[j].2.as_ref().expect("every mode carries Z")
+                })
+            });
+        }
+    }
+    let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+    let resolution = resolution(&per_step, &magnitudes);
+    ExactError { per_step, total, per_mode, resolution, coordinates: Coordinates::Plant, untracked: None }
+}
+
+/// The worst step's digits lost. Each step is measured against its own value or a millionth of
+/// the largest step's, whichever is larger: a step whose error is zero up to rounding (a
+/// deterministic input the filter matches exactly) need not be resolved beyond the run's scale.
+pub(super) fn resolution(per_step: &[f64], magnitudes: &[f64]) -> Resolution {
+    let scale = per_step.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    let mut worst = Resolution { step: 0, digits_lost: 0.0 };
+    for (k, (v, mag)) in per_step.iter().zip(magnitudes).enumerate() {
+        // A value that is not finite stays so (f64::max would drop a NaN).
+        let against = if v.is_finite() { v.abs().max(RESOLVE_FRACTION * scale) } else { *v };
+        let lost = digits_lost(against, *mag);
+        if lost > worst.digits_lost {
+            worst = Resolution { step: k, digits_lost: lost };
+        }
+    }
+    worst
+}
+
+/// See [`resolution`].
+pub(super) const RESOLVE_FRACTION: f64 = 1e-6;
+
+/// log10(magnitude of the terms / |result|), 0 when there is nothing to lose, capped at 17 (all
+/// digits) when the result is zero but its terms are not; infinite when anything is not finite.
+pub(super) fn digits_lost(result: f64, magnitude: f64) -> f64 {
+    if !(result.is_finite() && magnitude.is_finite()) {
+        return f64::INFINITY;
+    }
+    if magnitude <= 0.0 {
+        return 0.0;
+    }
+    (magnitude / result.abs().max(magnitude * 1e-17)).log10().max(0.0)
+}
+
+/// Below this many states the dense recursion costs nothing and the structure is not looked for.
+pub(super) const MODAL_MIN_STATES: usize = 32;
+
+/// Whether `m` is zero outside 2×2 blocks on its diagonal (a modal truth: independent oscillators).
+pub(super) fn two_by_two_block_diagonal(m: &Mat) -> bool {
+    m.nrows() % 2 == 0
+        && m.iter().enumerate().all(|(idx, v)| *v == 0.0 || (idx % m.nrows()) / 2 == (idx / m.nrows()) / 2)
+}
+
+/// The recursion of [`propagate`] when A, cov x0 and B W Bᵀ are block diagonal in 2×2 blocks and
+/// there are no modes and no means (a modal truth, seed 004's string): the state covariance stays
+/// block diagonal, so only its blocks P_b, the cross covariance X = E[x sᵀ] and the filter's
+/// S = E[s sᵀ] are carried:
+///
+///     P_b' = A_b P_b A_bᵀ + (B W Bᵀ)_b,   X' = A X Afᵀ + A P (Bf C)ᵀ + B W Dᵀ Bfᵀ,
+///     S' = Af S Afᵀ + Af Xᵀ (Bf C)ᵀ + (Bf C) X Afᵀ + (Bf C) P (Bf C)ᵀ + Bf D W Dᵀ Bfᵀ,
+///
+/// E|e|² = Σ_b tr(H_x,b P_b H_x,bᵀ) + 2 tr(H_x X H_sᵀ) + tr(H_s S H_sᵀ) + tr(G W Gᵀ), with
+/// H_x = Cz − Df C, H_s = −Cf, G = Dz − Df D. The cost per step is linear in the number of modes
+/// instead of cubic.
+pub(super) fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w: &Mat, bwb_full: &Mat) -> ExactError {
+    let (nx, ns) = (plant.nx(), real.ns());
+    let nb = nx / 2;
+    let blk = |m: &Mat, b: usize| m.view((2 * b, 2 * b), (2, 2)).into_owned();
+    let a: Vec<Mat> = (0..nb).map(|b| blk(&plant.a, b)).collect();
+    let bwb: Vec<Mat> = (0..nb).map(|b| blk(bwb_full, b)).collect();
+    let mut p: Vec<Mat> = (0..nb).map(|b| blk(x0_cov, b)).collect();
+    let mut x = Mat::zeros(nx, ns);
+    let mut sm = Mat::zeros(ns, ns);
+    // Block-diagonal products: A·M and P·M for M with nx rows.
+    let bd_mul = |d: &[Mat], m: &Mat| {
+        let mut out = Mat::zeros(m.nrows(), m.ncols());
+        for (b, db) in d.iter().enumerate() {
+            out.rows_mut(2 * b, 2).copy_from(&(db * m.rows(2 * b, 2)));
+        }
+        out
+    };
+    let bw = &plant.b * w;
+    let mut per_step = Vec::with_capacity(plant.steps());
+    for k in 0..plant.steps() {
+        let g = real.gains(k, 0);
+        let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
+        let hx = &plant.cz - &g.df * c;
+        let hs = -&g.cf;
+        let gw = &plant.dz - &g.df * d;
+        let mut mse = 2.0 * (&hx * &x * hs.transpose()).trace()
+            + (&hs * &sm * hs.transpose()).trace()
+            + (&gw * w * gw.transpose()).trace();
+        for (b, pb) in p.iter().enumerate() {
+            let h = hx.columns(2 * b, 2);
+            mse += (h * pb * h.transpose()).trace();
+        }
+        per_step.push(mse);
+        if k == plant.horizon {
+            break;
+        }
+        let gc = &g.bf * c;
+        let pgc = bd_mul(&p, &gc.transpose());
+        let bwd = &bw * d.transpose() * g.bf.transpose();
+        let dwd = &g.bf * d * w * d.transpose() * g.bf.transpose();
+        let x_next = bd_mul(&a, &(&x * g.af.transpose() + &pgc)) + bwd;
+        let xg = x.transpose() * gc.transpose();
+        let s_next =
+            &g.af * &sm * g.af.transpose() + &g.af * &xg + xg.transpose() * g.af.transpose() + &gc * &pgc + dwd;
+        for b in 0..nb {
+            p[b] = symmetrize(&(&a[b] * &p[b] * a[b].transpose() + &bwb[b]));
+        }
+        x = x_next;
+        sm = symmetrize(&s_next);
+    }
+    let total: f64 = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+    // A stable modal truth (the string) is the only use: only overflow is looked for.
+    let resolution = match per_step.iter().position(|v| !v.is_finite()) {
+        Some(step) => Resolution { step, digits_lost: f64::INFINITY },
+        None => Resolution { step: 0, digits_lost: 0.0 },
+    };
+    ExactError { per_step, total, per_mode: vec![total], resolution, coordinates: Coordinates::Plant, untracked: None }
+}
