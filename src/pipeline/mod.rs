@@ -64,7 +64,7 @@ pub struct Claimed {
 
 impl Claimed {
     fn of(plant: &crate::model::plant::Plant, design: &Design) -> Option<Claimed> {
-        let g = design.guarantee.as_ref().filter(|g| g.kind == "exact_at_design" || g.kind == "minimax")?;
+        let g = design.guarantee.as_ref().filter(|g| g.kind.at_design_covariance())?;
         let total = g.per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
         Some(Claimed { total, per_step: g.per_step.clone() })
     }
@@ -78,7 +78,7 @@ impl Claimed {
 /// either.
 pub fn guarantee_holds(exp: &Experiment, design: &Design, cov: &Covariances, joint: bool) -> bool {
     let Some(g) = &design.guarantee else { return false };
-    g.kind == "minimax"
+    g.kind.bounds_the_sets()
         && !joint
         && exp.disturbances.iter().filter(|d| d.is_some()).count() <= 1
         && exp

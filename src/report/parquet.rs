@@ -84,7 +84,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             // A promise only where it holds in this scenario; the filter's belief is `claimed`.
             let holds = sc.guaranteed[f];
             c.guaranteed.push(holds);
-            c.guarantee_kind.push(holds.and(d.design.guarantee.as_ref().map(|g| g.kind.clone())));
+            c.guarantee_kind.push(holds.and(d.design.guarantee.as_ref().map(|g| g.kind.name())));
             c.claimed.push(d.claimed.as_ref().map(|cl| cl.total));
             c.consistency.push(d.claimed.as_ref().map(|cl| sc.exact[f].total / cl.total));
             let (avg_exact, avg_empirical) = nees_averages(&exp.plant, sc, f);
@@ -187,7 +187,7 @@ struct SummaryCols {
     exact: Vec<Option<f64>>,
     exact_terminal: Vec<Option<f64>>,
     guaranteed: Vec<Option<f64>>,
-    guarantee_kind: Vec<Option<String>>,
+    guarantee_kind: Vec<Option<&'static str>>,
     claimed: Vec<Option<f64>>,
     consistency: Vec<Option<f64>>,
     nees_exact: Vec<Option<f64>>,
