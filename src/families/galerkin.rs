@@ -22,7 +22,7 @@
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput};
+use crate::filter::design::{Design, DesignInput, Figures, GalerkinPoint};
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
 use crate::model::plant::{Covariances, Plant};
@@ -86,11 +86,10 @@ impl super::Family for Galerkin {
         // stable, so the plant-coordinate recursion resolves its error).
         realization.tracks = None;
         let mut diagnostics = serde_json::Map::new();
-        diagnostics.insert("basis".into(), format!("{:?}", p.basis).to_lowercase().into());
-        diagnostics.insert("n".into(), p.n.into());
-        diagnostics.insert("alpha".into(), p.alpha.into());
         diagnostics.insert("dt".into(), model.dt.into());
-        Ok(Design::new(realization, diagnostics))
+        let basis = format!("{:?}", p.basis).to_lowercase();
+        let galerkin = Some(GalerkinPoint { basis, n: p.n, alpha: p.alpha });
+        Ok(Design { figures: Figures { galerkin, ..Figures::default() }, ..Design::new(realization, diagnostics) })
     }
 }
 

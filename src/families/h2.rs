@@ -55,7 +55,7 @@ impl super::Family for H2 {
             .map(|p| symmetrize(&(&input.plant.cz * p * input.plant.cz.transpose())).symmetric_eigenvalues().max())
             .fold(0.0, f64::max);
         let mut design = design_at(input.plant, input.nominal.clone(), Pattern::Prediction);
-        design.diagnostics.insert("h2_level".into(), level.into());
+        design.figures.h2_level = Some(level);
         design.per_trial = Some(PerTrialBound::Ellipsoid { weights });
         Ok(design)
     }

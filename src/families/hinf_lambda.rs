@@ -12,7 +12,7 @@
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput, PerTrialBound};
+use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound};
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
 use crate::model::plant::{Covariances, Plant};
@@ -202,13 +202,13 @@ impl super::Family for HinfLambda {
         if let Some(lm) = lmin {
             diagnostics.insert("lambda_min".into(), lm.into());
         }
-        diagnostics.insert("hinf_norm_squared".into(), norm2.into());
         let (sdp, iterations, seconds) = crate::analysis::hinf::norm_sdp(input.plant, &realization, input.nominal, &s)?;
         diagnostics.insert("hinf_norm_squared_sdp".into(), sdp.into());
         diagnostics.insert("sdp_iterations".into(), iterations.into());
         diagnostics.insert("sdp_seconds".into(), seconds.into());
         Ok(Design {
             per_trial: Some(PerTrialBound::Ratio { bound: lambda, terminal_weight: s }),
+            figures: Figures { hinf_norm_squared: Some(norm2), ..Figures::default() },
             ..Design::new(realization, diagnostics)
         })
     }

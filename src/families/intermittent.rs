@@ -55,9 +55,9 @@ impl super::Family for Intermittent {
         }
         let cov = input.design_point(&key, &p.design, input.has_sets())?;
         let (realization, predicted) = predictor(input.plant, &cov);
-        let mut diagnostics = serde_json::Map::new();
-        diagnostics.insert("riccati_summed_error".into(), predicted.into());
-        Ok(super::exact_at_design(input.plant, realization, cov, diagnostics))
+        let mut design = super::exact_at_design(input.plant, realization, cov, serde_json::Map::new());
+        design.figures.riccati_summed_error = Some(predicted);
+        Ok(design)
     }
 }
 

@@ -96,10 +96,10 @@ impl super::Family for MarkovJump {
                 constant(plant, &vec![c.k; modes.names.len()])
             }
         };
-        if p.gains == GainsKind::Finite {
-            diagnostics.insert("riccati_summed_error".into(), finite(plant, &cov).1.into());
-        }
-        Ok(Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) })
+        let predicted = (p.gains == GainsKind::Finite).then(|| finite(plant, &cov).1);
+        let mut design = Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) };
+        design.figures.riccati_summed_error = predicted;
+        Ok(design)
     }
 }
 

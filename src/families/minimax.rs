@@ -20,7 +20,7 @@
 use serde::Deserialize;
 
 use super::kalman::kalman;
-use crate::filter::design::{Design, DesignInput, Guarantee, TraceRow};
+use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, TraceRow};
 use crate::error::{Error, Result};
 use crate::analysis::exact;
 use crate::numerics::linalg::{Mat, frob_dot};
@@ -98,7 +98,6 @@ impl super::Family for Minimax {
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("iterations".into(), sol.trace.len().into());
         diagnostics.insert("dual_value".into(), sol.value.into());
-        diagnostics.insert("final_gap".into(), sol.gap.into());
         diagnostics.insert("converged".into(), sol.converged.into());
         diagnostics.insert(
             "method".into(),
@@ -109,21 +108,23 @@ impl super::Family for Minimax {
         // when R_z(K̂) ≻ 0 (b); with neither, K̂ still maximizes I but the filter is not proven minimax.
         let rz_min = observation_covariance_min_eigenvalue(input.plant, &sol.k_hat)?;
         let rz_positive = rz_min > 0.0;
-        diagnostics.insert("rz_min_eigenvalue".into(), rz_min.into());
-        diagnostics.insert(
-            "theorem_1_2".into(),
-            match (sol.largest_element, rz_positive) {
-                (true, _) => "a: the set has a largest element",
-                (false, true) => "b: R_z(K̂) ≻ 0",
-                (false, false) => "neither a nor b: K̂ maximizes I, but the filter at K̂ is not proven minimax",
-            }
-            .into(),
-        );
+        let theorem_1_2 = match (sol.largest_element, rz_positive) {
+            (true, _) => "a: the set has a largest element",
+            (false, true) => "b: R_z(K̂) ≻ 0",
+            (false, false) => "neither a nor b: K̂ maximizes I, but the filter at K̂ is not proven minimax",
+        };
+        let figures = Figures {
+            final_gap: Some(sol.gap),
+            theorem_1_2: Some(theorem_1_2.into()),
+            rz_min_eigenvalue: Some(rz_min),
+            ..Figures::default()
+        };
         Ok(Design {
             realization,
-            guarantee: Some(Guarantee { kind: "minimax".into(), total: certified, per_step: at_hat.per_step }),
+            guarantee: Some(Guarantee { kind: GuaranteeKind::Minimax, total: certified, per_step: at_hat.per_step }),
             design_covariance: Some(sol.k_hat),
             trace: sol.trace,
+            figures,
             diagnostics,
             per_trial: None,
             gain_bound: None,

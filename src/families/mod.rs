@@ -9,7 +9,7 @@ use std::sync::Arc;
 use serde::de::DeserializeOwned;
 
 use crate::error::{Error, Result};
-use crate::filter::design::{Design, DesignInput, Guarantee};
+use crate::filter::design::{Design, DesignInput, Guarantee, GuaranteeKind};
 use crate::filter::realization::Realization;
 use crate::model::plant::Covariances;
 
@@ -113,7 +113,7 @@ pub fn exact_at_design(
 ) -> Design {
     let at = crate::analysis::exact::error(plant, &realization, &cov);
     Design {
-        guarantee: Some(Guarantee { kind: "exact_at_design".into(), total: at.total, per_step: at.per_step }),
+        guarantee: Some(Guarantee { kind: GuaranteeKind::ExactAtDesign, total: at.total, per_step: at.per_step }),
         design_covariance: Some(cov),
         ..Design::new(realization, diagnostics)
     }

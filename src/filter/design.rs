@@ -48,11 +48,84 @@ impl DesignInput<'_> {
 /// What a family's theory promises about its error.
 #[derive(Clone, Debug)]
 pub struct Guarantee {
-    /// Short name of the promise, e.g. `exact_at_design` for Kalman (the summed error it attains
-    /// when the noise has its design covariance).
-    pub kind: String,
+    pub kind: GuaranteeKind,
     pub total: f64,
     pub per_step: Vec<f64>,
+}
+
+/// The kinds of [`Guarantee`]; [`GuaranteeKind::name`] is the `guarantee_kind` column and the
+/// manifest's `guarantee.kind`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GuaranteeKind {
+    /// The summed error the filter attains when the noise has its design covariance (Kalman,
+    /// intermittent, Markov-jump): the filter's belief, not a promise under another covariance.
+    ExactAtDesign,
+    /// Seed 000's minimax bound: the summed error at the least favourable covariance K̂, which no
+    /// covariance of the sets exceeds (Theorem 1.2).
+    Minimax,
+}
+
+impl GuaranteeKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            GuaranteeKind::ExactAtDesign => "exact_at_design",
+            GuaranteeKind::Minimax => "minimax",
+        }
+    }
+
+    /// Whether the guarantee is a bound over the experiment's uncertainty (seed 000 Theorem 3),
+    /// rather than the filter's error at one covariance.
+    pub fn bounds_the_sets(self) -> bool {
+        match self {
+            GuaranteeKind::ExactAtDesign => false,
+            GuaranteeKind::Minimax => true,
+        }
+    }
+
+    /// Whether the per-step values are the error at the filter's design covariance (its P), so
+    /// that they are also what the filter claims its error is.
+    pub fn at_design_covariance(self) -> bool {
+        match self {
+            GuaranteeKind::ExactAtDesign | GuaranteeKind::Minimax => true,
+        }
+    }
+}
+
+/// The design figures other code reads back, typed. Each is set by the family that computes it;
+/// the manifest lists them under `diagnostics` beside [`Design::diagnostics`]' extras.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Figures {
+    /// Seed 000 Algorithm 1: the duality gap δ(s) at the last iteration (minimax).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_gap: Option<f64>,
+    /// Seed 000 Theorem 1.2: which condition (a: a largest element; b: R_z(K̂) ≻ 0) makes the
+    /// filter at K̂ minimax, or that neither does (minimax).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theorem_1_2: Option<String>,
+    /// λmin(R_z(K̂)) / λmax, Theorem 1.2b's condition (minimax).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rz_min_eigenvalue: Option<f64>,
+    /// The summed error the design's Riccati recursion predicts (intermittent, Markov-jump).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub riccati_summed_error: Option<f64>,
+    /// Seed 002: the H∞ norm² of the designed filter (hinf_lambda).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hinf_norm_squared: Option<f64>,
+    /// Seed 002: the generalized H2 level the filter is designed for (h2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h2_level: Option<f64>,
+    /// Seed 004: the filter's place in the Galerkin sweep.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub galerkin: Option<GalerkinPoint>,
+}
+
+/// A Galerkin filter's basis, number of modes n and regularization α (seed 004).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GalerkinPoint {
+    pub basis: String,
+    pub n: usize,
+    pub alpha: f64,
 }
 
 /// One iteration of an iterative design (seed 000 Algorithm 1: s, I(K(s)), the gap δ(s), the step
@@ -74,7 +147,10 @@ pub struct Design {
     pub design_covariance: Option<Covariances>,
     /// Iterations of the design procedure (empty for closed-form designs).
     pub trace: Vec<TraceRow>,
-    /// Anything else worth keeping in the manifest (solver figures, which theorem applied, …).
+    /// The figures read back by other code or tests ([`Figures`]).
+    pub figures: Figures,
+    /// Anything else worth keeping in the manifest (solver figures, timings, …); nothing reads
+    /// these back.
     pub diagnostics: serde_json::Map<String, serde_json::Value>,
     /// A guarantee that holds for every single trial (seed 002's H∞-λ), checked on each one.
     pub per_trial: Option<PerTrialBound>,
@@ -90,10 +166,20 @@ impl Design {
             guarantee: None,
             design_covariance: None,
             trace: Vec::new(),
+            figures: Figures::default(),
             diagnostics,
             per_trial: None,
             gain_bound: None,
         }
+    }
+
+    /// The manifest's `diagnostics`: the typed [`Figures`] and the extras in one JSON object.
+    pub fn manifest_diagnostics(&self) -> serde_json::Map<String, serde_json::Value> {
+        let mut all = self.diagnostics.clone();
+        if let Ok(serde_json::Value::Object(typed)) = serde_json::to_value(&self.figures) {
+            all.extend(typed);
+        }
+        all
     }
 }
 

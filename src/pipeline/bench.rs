@@ -1,5 +1,7 @@
 //! `filterbench bench`: throughput of the Monte Carlo engine on an experiment's first scenario, and
-//! how much of a trial is spent drawing its random numbers. Measured, not asserted.
+//! how much of a trial is spent drawing its random numbers. Measured, not asserted. The scenario is
+//! set up and simulated exactly as `experiment` runs it ([`super::scenarios::setup`],
+//! [`super::evaluate::Engine`]).
 
 use std::fmt::Write;
 use std::time::Instant;
@@ -7,26 +9,18 @@ use std::time::Instant;
 use crate::config::Experiment;
 use crate::error::Result;
 use crate::sim::montecarlo::{self, Workspace};
-use crate::sim::noise::{NoiseSampler, trial_rng};
+use crate::sim::noise::trial_rng;
+
+use super::evaluate::{Engine, exact_errors};
 
 pub fn run(exp: &Experiment) -> Result<String> {
     let filters = super::design_all(exp)?;
     let covs = super::scenario_covariances(exp, &filters)?;
-    let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
-    let sampler = NoiseSampler::new(&exp.plant, &exp.sampling(&covs[0]), &exp.scenarios[0].shape);
-    let ratios = super::ratio_check(exp, &filters);
-    let nees: Vec<_> = filters.iter().map(|f| f.nees_weights.clone()).collect();
-    let sc = montecarlo::Scenario {
-        plant: &exp.plant,
-        ops: &montecarlo::PlantOps::new(&exp.plant),
-        filters: &reals,
-        sampler: &sampler,
-        seed: exp.seed,
-        index: 0,
-        ratios: ratios.as_ref(),
-        nees: &nees,
-        forms: &[],
-    };
+    let setup = super::scenarios::setup(exp, &filters, 0, &covs[0])?;
+    let engine = Engine::new(exp, &filters);
+    let (_, forms) = exact_errors(&engine, &setup)?;
+    let sc = engine.scenario(&setup, 0, &forms);
+    let sampler = &setup.sampler;
     let trials = exp.trials as u64;
     let steps = exp.plant.steps() as f64;
     let mut s = String::new();
@@ -36,7 +30,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
         exp.name,
         exp.variant.as_deref().map_or(String::new(), |v| format!(" [{v}]")),
         exp.scenarios[0].name,
-        reals.len(),
+        filters.len(),
         exp.plant.horizon,
         trials,
         rayon::current_num_threads()

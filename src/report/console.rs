@@ -109,7 +109,7 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
                 num(half),
                 num(ex),
                 z_score(st.mean, st.std_error(), ex),
-                opt(sc.guaranteed[f]),
+                opt(sc.filters[f].guaranteed),
                 opt(out.filters[f].worst.as_ref().map(|w| w.total)),
             );
         }
@@ -121,7 +121,8 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
 }
 
 /// Seed 003's figures: mean-square gain E|Z̃|²/E|W|² (empirical with its 95 % half-width, exact, and
-/// exact for the noise alone), the filter's a-anisotropic norm² and its guaranteed γ².
+/// exact for the noise alone; "—" where the outcome has none: an input without power, or the noise
+/// alone beside a deterministic disturbance), the filter's a-anisotropic norm² and its guaranteed γ².
 fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> String {
     let a = sc.input_anisotropy.map_or("—".to_string(), |a| format!("{a:.3}"));
     let level = exp.anisotropy.map_or(String::new(), |a| format!(", norm² at a = {a}"));
@@ -131,17 +132,16 @@ fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> Strin
         "filter", "gain ± 95%", "exact", "noise only", "norm²_a", "γ²"
     );
     for (f, spec) in exp.filters.iter().enumerate() {
-        let st = &sc.mc.filters[f].total;
         let d = &out.filters[f];
-        let p = sc.input_power;
+        let g = sc.filters[f].gain;
         let (above, name) = name_cell(&spec.name);
         s += &above;
         s += &format!(
             "  {name}  {:>8} ± {:<8}  {:>8}  {:>10}  {:>8}  {:>8}\n",
-            num(st.mean / p),
-            num((st.ci95().1 - st.mean) / p),
-            num(sc.exact[f].total / p),
-            num((sc.exact[f].total - d.deterministic_error) / p),
+            opt(g.map(|g| g.empirical)),
+            opt(g.map(|g| g.ci_high - g.empirical)),
+            opt(g.map(|g| g.exact)),
+            opt(g.and_then(|g| g.exact_noise)),
             opt(d.anisotropic.map(|x| x.norm_sq)),
             opt(d.design.gain_bound.map(|g| g.gamma_sq)),
         );

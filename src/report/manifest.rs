@@ -59,11 +59,11 @@ fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<
         .map(|(f, d)| {
             serde_json::json!({
                 "name": f.name, "family": f.family, "params": f.params, "design_seconds": d.seconds,
-                "guarantee": d.design.guarantee.as_ref().map(|g| serde_json::json!({"kind": g.kind, "total": g.total})),
+                "guarantee": d.design.guarantee.as_ref().map(|g| serde_json::json!({"kind": g.kind.name(), "total": g.total})),
                 "claimed": d.claimed.as_ref().map(|c| c.total),
                 "worst_case": d.worst.as_ref().map(|w| w.total),
                 "design_covariance": d.design.design_covariance.as_ref().map(cov_json),
-                "diagnostics": d.design.diagnostics,
+                "diagnostics": d.design.manifest_diagnostics(),
                 "anisotropic": d.anisotropic.map(|x| serde_json::json!({"norm_sq": x.norm_sq, "h2_sq": x.h2_sq, "hinf_sq": x.hinf_sq})),
                 "gain_bound": d.design.gain_bound.map(|g| serde_json::json!({"gamma_sq": g.gamma_sq, "anisotropy": g.anisotropy})),
             })

@@ -65,6 +65,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         for (f, spec) in exp.filters.iter().enumerate() {
             let st = &sc.mc.filters[f].total;
             let d = &out.filters[f];
+            let o = &sc.filters[f];
             let (lo, hi) = st.ci95();
             c.experiment.push(exp.name.clone());
             c.scenario.push(sc.name.clone());
@@ -82,15 +83,13 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.exact.push(Some(sc.exact[f].total));
             c.exact_terminal.push(sc.exact[f].per_step.last().copied());
             // A promise only where it holds in this scenario; the filter's belief is `claimed`.
-            let holds = sc.guaranteed[f];
-            c.guaranteed.push(holds);
-            c.guarantee_kind.push(holds.and(d.design.guarantee.as_ref().map(|g| g.kind.clone())));
+            c.guaranteed.push(o.guaranteed);
+            c.guarantee_kind.push(o.guarantee_kind.map(|k| k.name()));
             c.claimed.push(d.claimed.as_ref().map(|cl| cl.total));
-            c.consistency.push(d.claimed.as_ref().map(|cl| sc.exact[f].total / cl.total));
-            let (avg_exact, avg_empirical) = nees_averages(&exp.plant, sc, f);
+            c.consistency.push(o.consistency);
             c.generalized_h2_norm_sq.push(d.generalized_h2_sq);
-            c.nees_exact.push(avg_exact);
-            c.nees_empirical.push(avg_empirical);
+            c.nees_exact.push(o.nees_average.exact);
+            c.nees_empirical.push(o.nees_average.empirical);
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             let pt = d.design.per_trial.as_ref();
@@ -99,25 +98,21 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.max_ratio.push(pt.map(|_| sc.mc.filters[f].max_ratio));
             // Seed 003's figures: the mean-square gain E|Z̃|²/E|W|², exact and empirical, against the
             // filter's a-anisotropic norm² and its guaranteed γ².
-            let pw = sc.input_power;
-            let gain = (pw > 0.0).then_some(pw);
-            c.input_power.push(pw);
+            c.input_power.push(sc.input_power);
             c.input_anisotropy.push(sc.input_anisotropy);
-            c.gain_empirical.push(gain.map(|p| st.mean / p));
-            c.gain_ci_low.push(gain.map(|p| lo / p));
-            c.gain_ci_high.push(gain.map(|p| hi / p));
-            c.gain_exact.push(gain.map(|p| sc.exact[f].total / p));
+            c.gain_empirical.push(o.gain.map(|g| g.empirical));
+            c.gain_ci_low.push(o.gain.map(|g| g.ci_low));
+            c.gain_ci_high.push(o.gain.map(|g| g.ci_high));
+            c.gain_exact.push(o.gain.map(|g| g.exact));
             c.deterministic_error.push(d.deterministic_error);
-            c.gain_exact_noise.push(
-                gain.filter(|_| sc.disturbance.is_none()).map(|p| (sc.exact[f].total - d.deterministic_error) / p),
-            );
+            c.gain_exact_noise.push(o.gain.and_then(|g| g.exact_noise));
             c.anisotropic_norm_sq.push(d.anisotropic.map(|x| x.norm_sq));
             c.h2_norm_sq.push(d.anisotropic.map(|x| x.h2_sq));
             c.hinf_norm_sq.push(d.anisotropic.map(|x| x.hinf_sq));
             let gb = d.design.gain_bound;
             c.guaranteed_gain.push(gb.map(|g| g.gamma_sq));
             c.guarantee_anisotropy.push(gb.map(|g| g.anisotropy));
-            c.guarantee_applies.push(gb.map(|g| sc.input_anisotropy.is_some_and(|a| a <= g.anisotropy + 1e-9)));
+            c.guarantee_applies.push(o.guarantee_applies);
             c.design_seconds.push(d.seconds);
             c.mc_seconds.push(sc.mc_seconds);
         }
@@ -187,7 +182,7 @@ struct SummaryCols {
     exact: Vec<Option<f64>>,
     exact_terminal: Vec<Option<f64>>,
     guaranteed: Vec<Option<f64>>,
-    guarantee_kind: Vec<Option<String>>,
+    guarantee_kind: Vec<Option<&'static str>>,
     claimed: Vec<Option<f64>>,
     consistency: Vec<Option<f64>>,
     nees_exact: Vec<Option<f64>>,
@@ -216,25 +211,6 @@ struct SummaryCols {
     mc_seconds: Vec<f64>,
 }
 
-/// A filter's NEES averaged over the steps that count and where it claims an error: exact, and
-/// the mean of the per-step Monte Carlo means.
-fn nees_averages(
-    plant: &crate::model::plant::Plant,
-    sc: &crate::pipeline::ScenarioOutcome,
-    f: usize,
-) -> (Option<f64>, Option<f64>) {
-    let Some(exact) = &sc.nees_exact[f] else { return (None, None) };
-    let ks: Vec<usize> = (0..exact.len()).filter(|k| plant.counts(*k) && exact[*k].is_some()).collect();
-    if ks.is_empty() {
-        return (None, None);
-    }
-    let n = ks.len() as f64;
-    let ex = ks.iter().map(|k| exact[*k].unwrap_or(0.0)).sum::<f64>() / n;
-    let emp =
-        sc.mc.filters[f].nees.get(ks[0]).map(|_| ks.iter().map(|k| sc.mc.filters[f].nees[*k].mean).sum::<f64>() / n);
-    (Some(ex), emp)
-}
-
 /// One row per (scenario, filter, step).
 fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound, mut claimed) =
@@ -242,7 +218,7 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut nees_ex, mut nees_mean, mut nees_lo, mut nees_hi) = (vec![], vec![], vec![], vec![]);
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
-            let g = out.filters[f].design.guarantee.as_ref().filter(|_| sc.guaranteed[f].is_some());
+            let promise = sc.filters[f].promise.as_ref();
             let cl = out.filters[f].claimed.as_ref();
             for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
                 let (l, h) = w.ci95();
@@ -253,9 +229,9 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
                 lo.push(l);
                 hi.push(h);
                 ex.push(Some(sc.exact[f].per_step[k]));
-                bound.push(g.and_then(|g| g.per_step.get(k).copied()));
+                bound.push(promise.and_then(|p| p.bound(k)));
                 claimed.push(cl.and_then(|c| c.per_step.get(k).copied()));
-                nees_ex.push(sc.nees_exact[f].as_ref().and_then(|v| v[k]));
+                nees_ex.push(sc.filters[f].nees_exact.as_ref().and_then(|v| v[k]));
                 let nw = sc.mc.filters[f].nees.get(k).filter(|w| w.n > 0);
                 nees_mean.push(nw.map(|w| w.mean));
                 nees_lo.push(nw.map(|w| w.ci95().0));

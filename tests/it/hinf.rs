@@ -103,7 +103,7 @@ fn no_trial_violates_the_guarantee() {
     let out = pipeline::run(&exp, false).unwrap();
     let mut checked = 0;
     for (f, spec) in exp.filters.iter().enumerate() {
-        let Some(norm2) = out.filters[f].design.diagnostics.get("hinf_norm_squared").and_then(|v| v.as_f64()) else {
+        let Some(norm2) = out.filters[f].design.figures.hinf_norm_squared else {
             continue;
         };
         let Some(sc) = out.scenarios.iter().find(|s| s.name == format!("worst_for_{}", spec.name)) else { continue };
@@ -228,7 +228,7 @@ fn generalized_h2_norm_of_every_filter() {
     let exp = crate::common::load("hinf_tradeoff", 10);
     let filters = filterbench::pipeline::design_all(&exp).unwrap();
     let h2 = exp.filter_index("h2").unwrap();
-    let level = filters[h2].design.diagnostics["h2_level"].as_f64().unwrap();
+    let level = filters[h2].design.figures.h2_level.unwrap();
     let own = filters[h2].generalized_h2_sq.unwrap();
     assert!((own - level).abs() <= 1e-9 * level, "h2 filter: {own} vs its level {level}");
     for (spec, f) in exp.filters.iter().zip(&filters) {

@@ -146,8 +146,8 @@ fn mode_dependent_beats_common_gain_beats_mode_averaged_kalman() {
         eprintln!("{v}: mode-dependent {md:.4}, steady {st:.4}, common gain {cg:.4}, mode-averaged Kalman {ka:.4}");
         assert!(md <= st && md <= cg && cg <= ka, "{v}: the ordering fails");
         // The finite-horizon gains are those of the coupled Riccati recursion: its prediction is exact.
-        let d = &out[exp.filter_index("mode_dependent").unwrap()].design.diagnostics;
-        let predicted = d["riccati_summed_error"].as_f64().unwrap();
+        let d = &out[exp.filter_index("mode_dependent").unwrap()].design;
+        let predicted = d.figures.riccati_summed_error.unwrap();
         assert!((predicted - md).abs() <= 1e-9 * md);
     }
 }

@@ -76,7 +76,7 @@ fn saddle_point_and_smallest_worst_case() {
         let k_hat = d.design_covariance.as_ref().unwrap();
         let i_hat = dual_value(&exp.plant, exp.pattern, k_hat);
         let worst = filters[m].worst.as_ref().unwrap().total;
-        let gap = d.diagnostics["final_gap"].as_f64().unwrap();
+        let gap = d.figures.final_gap.unwrap();
         assert!(worst >= i_hat - 1e-9 * i_hat, "{name}: worst {worst} < I(K̂) {i_hat}");
         assert!(
             worst - i_hat <= gap + 1e-9 * i_hat,
@@ -285,9 +285,9 @@ fn theorem_1_2b_condition_is_checked() {
     for name in ["minimax_example2", "minimax_example3", "minimax_box", "minimax_example1"] {
         let exp = load(name, 10);
         let filters = pipeline::design_all(&exp).unwrap();
-        let d = &filters[exp.filter_index("minimax").unwrap()].design.diagnostics;
-        let which = d["theorem_1_2"].as_str().unwrap();
-        let rz = d["rz_min_eigenvalue"].as_f64().unwrap();
+        let d = &filters[exp.filter_index("minimax").unwrap()].design.figures;
+        let which = d.theorem_1_2.as_deref().unwrap();
+        let rz = d.rz_min_eigenvalue.unwrap();
         if name == "minimax_example1" {
             assert!(which.starts_with("a:"), "{name}: {which}");
         } else {

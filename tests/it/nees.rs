@@ -13,7 +13,7 @@ fn kalman_is_consistent_at_its_design_covariance_and_monte_carlo_agrees() {
     let out = pipeline::run(&exp, false).unwrap();
     let k = exp.filter_index("kalman_nominal").unwrap();
     let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
-    let exact = nominal.nees_exact[k].as_ref().expect("a Kalman filter has NEES");
+    let exact = nominal.filters[k].nees_exact.as_ref().expect("a Kalman filter has NEES");
     let mut counted = 0;
     for (step, v) in exact.iter().enumerate() {
         if let Some(v) = v {
@@ -23,7 +23,7 @@ fn kalman_is_consistent_at_its_design_covariance_and_monte_carlo_agrees() {
     }
     assert!(counted >= exact.len() - 1, "NEES is defined where the filter claims an error");
     for sc in &out.scenarios {
-        for (f, ex) in sc.nees_exact.iter().enumerate() {
+        for (f, ex) in sc.filters.iter().map(|o| &o.nees_exact).enumerate() {
             let Some(ex) = ex else { continue };
             let mc = &sc.mc.filters[f].nees;
             let mut zs = Vec::new();
@@ -54,7 +54,7 @@ fn a_misspecified_kalman_filter_is_overconfident() {
     let out = pipeline::run(&exp, false).unwrap();
     let k = exp.filter_index("kalman_wrong").unwrap();
     let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
-    let exact = nominal.nees_exact[k].as_ref().unwrap();
+    let exact = nominal.filters[k].nees_exact.as_ref().unwrap();
     let vals: Vec<f64> = exact.iter().flatten().copied().collect();
     let avg = vals.iter().sum::<f64>() / vals.len() as f64;
     assert!(avg > 2.0, "over-confident: average NEES {avg}");

@@ -18,7 +18,7 @@ fn kalman_claims_but_does_not_guarantee() {
     assert_eq!(claimed.total, g.total, "claimed is the summed error at the design covariance");
     assert_eq!(claimed.per_step, g.per_step);
     for sc in &out.scenarios {
-        assert_eq!(sc.guaranteed[k], None, "{}: a belief is not a guarantee", sc.name);
+        assert_eq!(sc.filters[k].guaranteed, None, "{}: a belief is not a guarantee", sc.name);
     }
     let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
     let consistency = nominal.exact[k].total / claimed.total;
@@ -36,11 +36,11 @@ fn minimax_keeps_its_guarantee_inside_its_sets() {
     let m = exp.filter_index("minimax").unwrap();
     let bound = out.filters[m].design.guarantee.as_ref().unwrap().total;
     for sc in &out.scenarios {
-        assert_eq!(sc.guaranteed[m], Some(bound), "{}", sc.name);
+        assert_eq!(sc.filters[m].guaranteed, Some(bound), "{}", sc.name);
         assert!(sc.exact[m].total <= bound * (1.0 + 1e-9), "{}", sc.name);
     }
     let k = exp.filter_index("kalman_nominal").unwrap();
-    assert!(out.scenarios.iter().all(|s| s.guaranteed[k].is_none()));
+    assert!(out.scenarios.iter().all(|s| s.filters[k].guaranteed.is_none()));
 }
 
 /// The tables carry the split: `guaranteed`/`bound` null for a Kalman filter, `claimed` and
@@ -102,7 +102,38 @@ fn minimax_bound_with_two_disturbance_blocks_is_no_promise() {
         let m = exp.filter_index("minimax").unwrap();
         let blocks = exp.disturbances.iter().filter(|d| d.is_some()).count();
         for sc in &out.scenarios {
-            assert_eq!(sc.guaranteed[m].is_some(), promised, "{name} ({blocks} blocks) / {}", sc.name);
+            assert_eq!(sc.filters[m].guaranteed.is_some(), promised, "{name} ({blocks} blocks) / {}", sc.name);
         }
     }
+}
+
+/// The console prints the outcome's mean-square gain, computed once with the Parquet writer's
+/// guards: beside a deterministic disturbance the noise alone has no gain of its own, so its
+/// column says "—" there (as `gain_exact_noise` is null) and a number everywhere else.
+#[test]
+fn console_gain_is_the_outcomes() {
+    let exp = crate::common::load("minimax_energy", 20);
+    let exp = filterbench::config::Experiment { anisotropy: Some(0.5), ..exp };
+    let out = pipeline::run(&exp, false).unwrap();
+    let table = report::console::table(&exp, &out);
+    let blocks: Vec<&str> = table.split("mean-square gain").skip(1).collect();
+    assert_eq!(blocks.len(), out.scenarios.len(), "one gain block per scenario:\n{table}");
+    let (mut disturbed, mut clean) = (0, 0);
+    for (sc, block) in out.scenarios.iter().zip(&blocks) {
+        // Each filter's line: name, gain ± half-width, exact, noise only, norm²_a, γ².
+        let noise: Vec<&str> = block
+            .lines()
+            .filter(|l| l.contains(" ± ") && !l.contains("gain ± 95%"))
+            .take(exp.filters.len())
+            .map(|l| l.split(" ± ").nth(1).unwrap().split_whitespace().nth(2).unwrap())
+            .collect();
+        assert_eq!(noise.len(), exp.filters.len(), "{}:\n{block}", sc.name);
+        for (f, cell) in noise.iter().enumerate() {
+            let gain = sc.filters[f].gain.expect("an input with power");
+            assert_eq!(gain.exact_noise.is_none(), sc.disturbance.is_some(), "{} / {}", sc.name, exp.filters[f].name);
+            assert_eq!(*cell == "—", sc.disturbance.is_some(), "{} / {}: {cell}", sc.name, exp.filters[f].name);
+        }
+        if sc.disturbance.is_some() { disturbed += 1 } else { clean += 1 }
+    }
+    assert!(disturbed > 0 && clean > 0, "both kinds of scenario are checked");
 }

@@ -10,17 +10,12 @@ pub struct Point {
     pub alpha: f64,
 }
 
-/// The Galerkin filters of a run (those whose design reports basis, n and α).
+/// The Galerkin filters of a run (those whose design reports its place in the sweep).
 pub fn points(run: &Run) -> Vec<Point> {
     (0..run.exp.filters.len())
         .filter_map(|f| {
-            let d = &run.out.filters[f].design.diagnostics;
-            Some(Point {
-                filter: f,
-                basis: d.get("basis")?.as_str()?.to_string(),
-                n: d.get("n")?.as_u64()? as usize,
-                alpha: d.get("alpha")?.as_f64()?,
-            })
+            let g = run.out.filters[f].design.figures.galerkin.as_ref()?;
+            Some(Point { filter: f, basis: g.basis.clone(), n: g.n, alpha: g.alpha })
         })
         .collect()
 }

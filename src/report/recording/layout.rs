@@ -14,7 +14,7 @@
 use rerun::external::re_sdk_types::blueprint::components::{ContainerKind, Corner2D};
 
 use super::blueprint::{Layout, Node, ViewKind};
-use super::{APP, Run, galerkin, promise, shown};
+use super::{APP, Run, galerkin, shown};
 use crate::pipeline::ScenarioOutcome;
 
 type BpResult<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
@@ -98,7 +98,7 @@ fn scenario(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Node> {
     let promised: Vec<String> = show
         .iter()
         .filter_map(|f| {
-            let p = promise(run.out, sc, *f)?;
+            let p = sc.filters[*f].promise.as_ref()?;
             Some([
                 plus(&format!("{}/exact", mse_at(*f))),
                 plus(&run.at(&["promise", &sc.name, &exp.filters[*f].name, p.label()])),

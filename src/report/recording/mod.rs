@@ -144,38 +144,6 @@ fn interleave(rows: usize, per_row: usize, value: impl Fn(usize, usize) -> f64) 
     (0..rows).flat_map(|k| (0..per_row).map(move |i| (k, i))).map(|(k, i)| value(k, i)).collect()
 }
 
-/// What a filter promises about its per-step error in a scenario: the family's bound where it
-/// holds in that scenario (`guaranteed`, as in the tables), else the filter's own belief, its error
-/// at its design covariance (`claimed`), which this scenario's input may exceed.
-pub enum Promise<'a> {
-    Guaranteed(&'a [f64]),
-    Claimed(&'a [f64]),
-}
-
-impl Promise<'_> {
-    pub fn label(&self) -> &'static str {
-        match self {
-            Promise::Guaranteed(_) => "guaranteed",
-            Promise::Claimed(_) => "claimed",
-        }
-    }
-    fn values(&self) -> &[f64] {
-        match self {
-            Promise::Guaranteed(v) | Promise::Claimed(v) => v,
-        }
-    }
-}
-
-pub fn promise<'a>(out: &'a RunOutcome, sc: &ScenarioOutcome, f: usize) -> Option<Promise<'a>> {
-    let d = &out.filters[f];
-    let held = d.design.guarantee.as_ref().filter(|g| sc.guaranteed[f].is_some() && !g.per_step.is_empty());
-    match (held, &d.claimed) {
-        (Some(g), _) => Some(Promise::Guaranteed(&g.per_step)),
-        (None, Some(c)) if !c.per_step.is_empty() => Some(Promise::Claimed(&c.per_step)),
-        _ => None,
-    }
-}
-
 fn write_run(w: &mut Writer, run: &Run) -> RecResult {
     let (exp, out) = (run.exp, run.out);
     for sc in &out.scenarios {
@@ -213,7 +181,7 @@ fn mse(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
         w.series(at("empirical"), &emp, &steps, values, 3)?;
         let exact = marker_style(c, MarkerShape::Circle, 1.5, name);
         w.series(at("exact"), &exact, &steps, sc.exact[f].per_step.clone(), 1)?;
-        if let Some(p) = promise(run.out, sc, f) {
+        if let Some(p) = &sc.filters[f].promise {
             let entity = run.at(&["promise", &sc.name, name, p.label()]);
             let s = series_style(c, style::EXACT_WIDTH, &format!("{name} · {}", p.label()));
             w.series(entity, &s, &steps, p.values().to_vec(), 1)?;

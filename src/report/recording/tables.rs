@@ -39,7 +39,7 @@ pub fn scenario(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> Str
     for (f, spec) in exp.filters.iter().enumerate() {
         let st = &sc.mc.filters[f].total;
         let (lo, hi) = st.ci95();
-        let guaranteed = sc.guaranteed[f].map_or(String::new(), num);
+        let guaranteed = sc.filters[f].guaranteed.map_or(String::new(), num);
         let claimed = out.filters[f].claimed.as_ref().map_or(String::new(), |c| num(c.total));
         s.push_str(&format!(
             "| {} | {} [{}, {}] | {} | {} | {} | {} |\n",

@@ -1,0 +1,151 @@
+//! Stage 1: design every filter and the figures that depend on the filter alone: its worst case over
+//! the experiment's uncertainty (seed 000, seed 001's disturbances), its a-anisotropic norm (seed
+//! 003), its claimed error and NEES weights, its generalized H2 norm (seed 002).
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::analysis::exact::{self, WorstCase};
+use crate::config::Experiment;
+use crate::error::{Error, Result};
+use crate::filter::design::Design;
+use crate::filter::realization::Realization;
+use crate::model::plant::Plant;
+use crate::numerics::linalg::Mat;
+
+/// A designed filter with its cost and its worst case over the experiment's uncertainty sets.
+pub struct DesignedFilter {
+    pub design: Design,
+    pub seconds: f64,
+    pub worst: Option<WorstCase>,
+    /// The exact a-anisotropic norm² and its limits, at the experiment's `anisotropy` level (seed 003).
+    pub anisotropic: Option<AnisotropicFigures>,
+    /// The summed error with zero noise (x0's mean and the known input alone).
+    pub deterministic_error: f64,
+    /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
+    pub claimed: Option<Claimed>,
+    /// Its NEES weight per step, P_z[k]⁺ / rank, where it claims a covariance ([`crate::analysis::nees`]).
+    pub nees_weights: Option<Vec<Option<Mat>>>,
+    /// Its generalized H2 norm² under the nominal weights ([`crate::analysis::hinf::generalized_h2_norm_sq`]);
+    /// None on a switching plant or when the stacked operator would be too large.
+    pub generalized_h2_sq: Option<f64>,
+}
+
+/// Inputs (x0 and w over the horizon) beyond which the generalized H2 norm is not computed: its
+/// stacked operator grows with their number squared (galerkin_string would need 50 000 of them).
+const GENERALIZED_H2_MAX_INPUTS: usize = 4000;
+
+fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
+    let p = &exp.plant;
+    if p.switches() || p.nx() + p.horizon * p.nw() > GENERALIZED_H2_MAX_INPUTS {
+        return Ok(None);
+    }
+    crate::analysis::hinf::generalized_h2_norm_sq(p, real, &exp.sampling(&exp.nominal)).map(Some)
+}
+
+/// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
+/// with P its design Riccati solution (Kalman, intermittent, Markov-jump: at `design`; minimax: at
+/// K̂). It is not a promise: under another covariance the filter does not know it is wrong, and
+/// `exact / claimed` (the consistency) says by how much.
+#[derive(Clone, Debug)]
+pub struct Claimed {
+    pub total: f64,
+    pub per_step: Vec<f64>,
+}
+
+impl Claimed {
+    fn of(plant: &Plant, design: &Design) -> Option<Claimed> {
+        let g = design.guarantee.as_ref().filter(|g| g.kind.at_design_covariance())?;
+        let total = g.per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+        Some(Claimed { total, per_step: g.per_step.clone() })
+    }
+}
+
+/// Designs every filter of `exp` (in parallel; each timed on its own). When several designs fail, the
+/// error reported is the first in file order, not whichever thread failed first, so the message is
+/// the same on every run and every thread count.
+pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
+    let designed: Vec<Result<DesignedFilter>> = exp
+        .filters
+        .par_iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let t = Instant::now();
+            let design = crate::families::design(f.configured.as_ref(), &exp.design_input(i))?;
+            let seconds = t.elapsed().as_secs_f64();
+            let worst = worst_case(exp, &design.realization)
+                .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
+            let anisotropic = match exp.anisotropy {
+                Some(a) => Some(anisotropic_figures(exp, &design.realization, a)?),
+                None => None,
+            };
+            let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
+            let claimed = Claimed::of(&exp.plant, &design);
+            let nees_weights = match (&claimed, &design.design_covariance) {
+                (Some(_), Some(cov)) => {
+                    let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
+                    Some(crate::analysis::nees::weights(&crate::analysis::nees::error_moments(
+                        &exp.plant,
+                        &design.realization,
+                        &at_design,
+                    )?))
+                }
+                _ => None,
+            };
+            let generalized_h2_sq = generalized_h2(exp, &design.realization)?;
+            Ok(DesignedFilter {
+                design,
+                seconds,
+                worst,
+                anisotropic,
+                deterministic_error,
+                claimed,
+                nees_weights,
+                generalized_h2_sq,
+            })
+        })
+        .collect();
+    designed.into_iter().collect()
+}
+
+/// A filter's exact |||F|||²_a at the experiment's level a and its limits ‖F‖₂²/lw (a = 0) and
+/// ‖F‖∞² (a → ∞), all from the eigenvalues of one Λ = E[𝓕ᵀ𝓕] (seed 003 §2).
+#[derive(Clone, Copy, Debug)]
+pub struct AnisotropicFigures {
+    pub norm_sq: f64,
+    pub h2_sq: f64,
+    pub hinf_sq: f64,
+}
+
+fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<AnisotropicFigures> {
+    let (mu, _) = crate::numerics::linalg::sym_eigen(&crate::analysis::anisotropy::error_gram(&exp.plant, real)?)?;
+    let mu: Vec<f64> = mu.into_iter().map(|m| m.max(0.0)).collect();
+    let norm = crate::analysis::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?;
+    Ok(AnisotropicFigures {
+        norm_sq: norm.value.powi(2),
+        h2_sq: mu.iter().sum::<f64>() / mu.len() as f64,
+        hinf_sq: mu.iter().cloned().fold(0.0, f64::max),
+    })
+}
+
+/// A filter's exact worst case over the experiment's uncertainty: covariances over their sets
+/// (disturbance blocks carry no covariance) and deterministic disturbances over their energy bounds
+/// ([`crate::analysis::disturbance::worst`]), evaluated exactly at the joint maximizer. None if the experiment has
+/// neither sets nor disturbances.
+pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCase>> {
+    let center = exp.sampling(&exp.nominal);
+    let sets = exact::worst_case(&exp.plant, real, &center, &exp.sets)?;
+    let dist = crate::analysis::disturbance::worst(&exp.plant, real, &exp.disturbances)?;
+    if sets.is_none() && dist.is_none() {
+        return Ok(None);
+    }
+    let mut wc = sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None });
+    wc.disturbance = dist.map(|(_, wm)| wm);
+    let at = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref());
+    if let Some(cause) = at.unresolved() {
+        return Err(Error::invalid("exact error at the maximizer", cause));
+    }
+    wc.total = at.total;
+    Ok(Some(wc))
+}
