@@ -54,6 +54,7 @@ struct Step {
 pub struct Lemma1 {
     steps: Vec<Step>,
     lw: usize,
+    q_max: std::sync::OnceLock<f64>,
 }
 
 /// What one q gives: Σ_k ln det S(k)⁻¹ = ln det(I − qΛ), and τ = tr(Λ Σ(q)).
@@ -82,8 +83,12 @@ impl Lemma1 {
             let augs: Vec<_> = (0..plant.n_modes()).map(|j| augmented(plant, real, k, j)).collect();
             let (nxi, nw) = (augs[0].f.nrows(), augs[0].e.ncols());
             let next = r1.take().unwrap_or_else(|| Mat::zeros(nxi, nxi));
-            let mut step =
-                Step { f: Mat::zeros(nxi, nxi), e: Mat::zeros(nxi, nw), n1: Mat::zeros(nw, nw), b1: Mat::zeros(nw, nxi) };
+            let mut step = Step {
+                f: Mat::zeros(nxi, nxi),
+                e: Mat::zeros(nxi, nw),
+                n1: Mat::zeros(nw, nw),
+                b1: Mat::zeros(nw, nxi),
+            };
             let mut here = Mat::zeros(nxi, nxi);
             for (a, p) in augs.iter().zip(&probs[k]) {
                 let (rf, re) = (&next * &a.f, &next * &a.e);
@@ -102,7 +107,7 @@ impl Lemma1 {
         }
         steps.reverse();
         let lw = steps.iter().map(|s| s.e.ncols()).sum();
-        Ok(Lemma1 { steps, lw })
+        Ok(Lemma1 { steps, lw, q_max: std::sync::OnceLock::new() })
     }
 
     /// lw = mw (N + 1), the dimension of W.
@@ -155,8 +160,13 @@ impl Lemma1 {
     }
 
     /// 1/λmax(Λ): the supremum of the q at which every S(k) ≻ 0, by bisection in
-    /// [1/tr Λ, lw/tr Λ] (λmax lies between tr Λ/lw and tr Λ) to a relative 4 rounding units.
+    /// [1/(2 tr Λ), 2 lw/tr Λ] (λmax lies between tr Λ/lw and tr Λ) to a relative 4 rounding units;
+    /// computed once.
     pub fn q_max(&self) -> f64 {
+        *self.q_max.get_or_init(|| self.bisect_q_max())
+    }
+
+    fn bisect_q_max(&self) -> f64 {
         let tr = self.trace();
         let (mut lo, mut hi) = (0.5 / tr, 2.0 * self.lw as f64 / tr);
         for _ in 0..400 {
@@ -196,11 +206,19 @@ impl Lemma1 {
         let (top, at_top) = [1e-15, 1e-14, 1e-13, 1e-12, 0.0]
             .iter()
             .find_map(|d| self.anisotropy_and_gain_sq(qmax * (1.0 - d)).map(|v| (qmax * (1.0 - d), v.0)))
-            .ok_or_else(|| Error::invalid("anisotropy", format!("the Riccati recursion (2.8)–(2.10) broke down below q = {qmax:e}")))?;
+            .ok_or_else(|| {
+                Error::invalid(
+                    "anisotropy",
+                    format!("the Riccati recursion (2.8)–(2.10) broke down below q = {qmax:e}"),
+                )
+            })?;
         if at_top < a {
             return Ok(hinf);
         }
-        let t = maximize_concave_01(|t| self.anisotropy_and_gain_sq(t * top).map_or(f64::NEG_INFINITY, |(an, _)| a - an), 1e-16);
+        let t = maximize_concave_01(
+            |t| self.anisotropy_and_gain_sq(t * top).map_or(f64::NEG_INFINITY, |(an, _)| a - an),
+            1e-16,
+        );
         let q = t * top;
         let (_, gain_sq) = self.anisotropy_and_gain_sq(q).ok_or_else(|| {
             Error::invalid("anisotropy", format!("the Riccati recursion (2.8)–(2.10) broke down at q = {q:e} < 1/λmax"))

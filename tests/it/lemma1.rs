@@ -55,7 +55,11 @@ fn compare(plant: &Plant, real: &Realization, levels: &[f64], name: &str) -> f64
             // not itself a cancellation: near 1/λmax both sides amplify rounding by 1/(1 − qγ²)).
             let at = lemma.at(norm.q).unwrap();
             let rhs = 2.0 * a + lemma.lw() as f64 * (-norm.q * riccati * riccati).ln_1p();
-            assert!((at.ln_det - rhs).abs() <= TOLERANCE * a.max(1.0), "{name}, a = {a}: (2.11) {} vs {rhs}", at.ln_det);
+            assert!(
+                (at.ln_det - rhs).abs() <= TOLERANCE * a.max(1.0),
+                "{name}, a = {a}: (2.11) {} vs {rhs}",
+                at.ln_det
+            );
         }
         let rel = (riccati - dense).abs() / dense;
         assert!(rel <= TOLERANCE, "{name}, a = {a}: Riccati {riccati} vs eigenvalues {dense} (relative {rel:.1e})");
@@ -90,7 +94,8 @@ fn riccati_matches_eigenvalues_on_random_systems() {
     let mut worst: f64 = 0.0;
     for seed in 0..24u64 {
         let mut g = rng(1000 + seed);
-        let (nx, nw, ny, nz) = (1 + seed as usize % 3, 1 + (seed as usize / 3) % 3, 1 + seed as usize % 2, 1 + (seed as usize / 2) % 2);
+        let (nx, nw, ny, nz) =
+            (1 + seed as usize % 3, 1 + (seed as usize / 3) % 3, 1 + seed as usize % 2, 1 + (seed as usize / 2) % 2);
         let horizon = 5 + (seed as usize * 7) % 10;
         let a0 = random(nx, nx, &mut g);
         let radius = a0.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max).max(1e-3);
@@ -121,12 +126,16 @@ fn riccati_matches_eigenvalues_on_random_systems() {
         let nominal = Covariances { blocks: vec![Mat::identity(nx, nx), Mat::identity(nw, nw)] };
         let pattern = if seed % 4 < 2 { Pattern::Prediction } else { Pattern::Filtering };
         let name = format!("random system {seed} (nx {nx}, nw {nw}, N {horizon}, ρ(A) {target}, dropouts {dropouts})");
-        worst = worst.max(compare(&plant, &kalman::kalman(&plant, &nominal, pattern), &levels, &format!("{name}, Kalman")));
+        worst =
+            worst.max(compare(&plant, &kalman::kalman(&plant, &nominal, pattern), &levels, &format!("{name}, Kalman")));
         let ns = 1 + (seed as usize + 1) % 3;
         let real = random_realization(&plant, ns, if dropouts { 2 } else { 1 }, &mut g);
         worst = worst.max(compare(&plant, &real, &levels, &format!("{name}, random filter")));
     }
-    println!("Lemma 1 vs eigenvalues, 48 random systems × {} levels: max relative difference {worst:.2e}", levels.len());
+    println!(
+        "Lemma 1 vs eigenvalues, 48 random systems × {} levels: max relative difference {worst:.2e}",
+        levels.len()
+    );
 }
 
 /// Every shipped experiment with an anisotropy level: every variant, every filter, at its level,
@@ -143,7 +152,12 @@ fn riccati_matches_eigenvalues_on_shipped_experiments() {
             let designs = filterbench::pipeline::design_all(&exp).unwrap();
             for (f, d) in exp.filters.iter().zip(&designs) {
                 let name = format!("{} {:?} {}", path.display(), exp.variant, f.name);
-                worst = worst.max(compare(&exp.plant, &d.design.realization, &[0.0, 1.0, level, 200.0, f64::INFINITY], &name));
+                worst = worst.max(compare(
+                    &exp.plant,
+                    &d.design.realization,
+                    &[0.0, 1.0, level, 200.0, f64::INFINITY],
+                    &name,
+                ));
                 cases += 1;
             }
         }
@@ -177,15 +191,22 @@ fn riccati_at_long_horizons() {
         let riccati = anisotropic_norm_riccati(&plant, &real, a).unwrap().value;
         let riccati_s = t.elapsed().as_secs_f64();
         let rel = (riccati - dense).abs() / dense;
-        println!("N = {horizon:4} (lw = {:4}): eigenvalues {dense_s:8.3} s, Lemma 1 {riccati_s:7.3} s, |||F|||_{a} = {riccati:.10} (relative difference {rel:.1e})", mu.len());
+        println!(
+            "N = {horizon:4} (lw = {:4}): eigenvalues {dense_s:8.3} s, Lemma 1 {riccati_s:7.3} s, |||F|||_{a} = {riccati:.10} (relative difference {rel:.1e})",
+            mu.len()
+        );
         assert!(rel <= TOLERANCE, "N = {horizon}: Riccati {riccati} vs eigenvalues {dense}");
     }
     let (plant, real) = long(2000);
     let t = Instant::now();
     let lemma = Lemma1::new(&plant, &real).unwrap();
-    let (h2, norm, hinf) = (lemma.norm(0.0).unwrap().value, lemma.norm(a).unwrap().value, lemma.norm(f64::INFINITY).unwrap().value);
+    let (h2, norm, hinf) =
+        (lemma.norm(0.0).unwrap().value, lemma.norm(a).unwrap().value, lemma.norm(f64::INFINITY).unwrap().value);
     let riccati_s = t.elapsed().as_secs_f64();
-    println!("N = 2000 (lw = {}): Lemma 1 {riccati_s:.3} s for a = 0, {a}, ∞: {h2:.10} ≤ {norm:.10} ≤ {hinf:.10}", lemma.lw());
+    println!(
+        "N = 2000 (lw = {}): Lemma 1 {riccati_s:.3} s for a = 0, {a}, ∞: {h2:.10} ≤ {norm:.10} ≤ {hinf:.10}",
+        lemma.lw()
+    );
     let unit = Covariances { blocks: vec![Mat::zeros(plant.nx(), plant.nx()), Mat::identity(plant.nw(), plant.nw())] };
     let h2_sq = exact::error(&plant, &real, &unit).total - exact::deterministic_error(&plant, &real);
     let expected = (h2_sq / lemma.lw() as f64).sqrt();
@@ -193,3 +214,23 @@ fn riccati_at_long_horizons() {
     assert!(h2 < norm && norm < hinf, "the norm at a = {a} lies strictly between its limits");
 }
 
+/// Lemma 1 as a test of |||F|||_a ≤ γ: with (2.11) read as −Σ ln det S(k) > 2a + lw ln(1 − qγ²)
+/// (S(k) of (2.9)), some admissible q passes for γ just above the norm and none (on a grid of 2000
+/// q's up to 1/λmax) just below it; with the sign as printed, γ at half the norm would pass.
+#[test]
+fn determinant_condition_decides_the_norm_bound() {
+    let (plant, real) = long(200);
+    let lemma = Lemma1::new(&plant, &real).unwrap();
+    let (a, lw, qmax) = (1.0, lemma.lw() as f64, lemma.q_max());
+    let norm = lemma.norm(a).unwrap().value;
+    let margin = |q: f64, gamma: f64| lemma.at(q).map(|v| v.ln_det - 2.0 * a - lw * (-q * gamma * gamma).ln_1p());
+    let grid: Vec<f64> = (1..2000).map(|i| qmax * i as f64 / 2000.0).collect();
+    let passes =
+        |gamma: f64| grid.iter().any(|&q| q * gamma * gamma < 1.0 && margin(q, gamma).is_some_and(|m| m > 0.0));
+    assert!(passes(norm * (1.0 + 1e-3)), "γ = 1.001 |||F|||_a passes for some q");
+    assert!(!passes(norm * (1.0 - 1e-3)), "γ = 0.999 |||F|||_a passes for no q");
+    let printed = |gamma: f64| {
+        grid.iter().any(|&q| lemma.at(q).is_some_and(|v| -v.ln_det > 2.0 * a + lw * (-q * gamma * gamma).ln_1p()))
+    };
+    assert!(printed(0.5 * norm), "as printed, (2.11) would accept γ = |||F|||_a / 2");
+}
