@@ -54,6 +54,11 @@ pub fn anisotropic_norm_from_eigenvalues(mu: &[f64], a: f64) -> Result<Anisotrop
     if mu.is_empty() || top <= 0.0 {
         return Ok(AnisotropicNorm { value: 0.0, q: 0.0 });
     }
+    // a = 0 is q = 0 exactly: A(Σ(q)) = O(q²) drowns in rounding near 0, and a bisection there
+    // would stop at a q ~ 1e-7/μmax off by ~1e-8 in the norm.
+    if a == 0.0 {
+        return Ok(AnisotropicNorm { value: gain_at(mu, 0.0), q: 0.0 });
+    }
     let qmax = 1.0 / top;
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     // Anisotropy reachable below qmax: if even (1 − 1e-15) qmax gives less than a, the sup is the

@@ -1,8 +1,9 @@
 //! Layer 4, analysis of a realization on a plant: exact error moments, worst cases over sets,
-//! operator norms (H∞, generalized H2), anisotropy, NEES.
+//! operator norms (H∞, generalized H2), anisotropy (eigenvalues of Λ, or seed 003's Lemma 1), NEES.
 
 pub mod anisotropy;
 pub mod disturbance;
 pub mod exact;
 pub mod hinf;
+pub mod lemma1;
 pub mod nees;

@@ -15,6 +15,7 @@ mod galerkin;
 mod generators;
 mod hinf;
 mod kalman;
+mod lemma1;
 mod markov_jump;
 mod minimax;
 mod nees;
