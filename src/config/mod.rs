@@ -106,6 +106,8 @@ pub struct Experiment {
     /// The total anisotropy a at which every filter's a-anisotropic norm is reported, if any.
     pub anisotropy: Option<f64>,
     pub plant: Plant,
+    /// The nominal covariances noise is drawn with: a deterministic disturbance block has none
+    /// (zero); the designs see its surrogate instead ([`Experiment::design_nominal`]).
     pub nominal: Covariances,
     /// The uncertainty set of each covariance block (index as in `Covariances::blocks`), if any.
     pub sets: Vec<Option<CovSet>>,
@@ -123,13 +125,24 @@ impl Experiment {
     pub fn has_sets(&self) -> bool {
         self.sets.iter().any(Option::is_some)
     }
-    /// The covariances noise is drawn with: deterministic disturbance blocks have none (their
-    /// entry in `cov` is the design surrogate energy · W⁻¹).
+    /// The covariances noise is drawn with when a scenario names `cov`: deterministic disturbance
+    /// blocks have none (a filter's design covariance carries their surrogate there).
     pub fn sampling(&self, cov: &Covariances) -> Covariances {
         let mut out = cov.clone();
         for (b, d) in out.blocks.iter_mut().zip(&self.disturbances) {
             if d.is_some() {
                 b.fill(0.0);
+            }
+        }
+        out
+    }
+    /// The nominal covariances the designs use: each disturbance block replaced by the white-noise
+    /// surrogate energy · W⁻¹ of seed 000 eqs (38)–(39).
+    pub fn design_nominal(&self) -> Covariances {
+        let mut out = self.nominal.clone();
+        for (b, d) in out.blocks.iter_mut().zip(&self.disturbances) {
+            if let Some(d) = d {
+                *b = d.surrogate_covariance();
             }
         }
         out
@@ -147,7 +160,7 @@ impl Experiment {
             name: &self.filters[i].name,
             plant: &self.plant,
             pattern: self.pattern,
-            nominal: &self.nominal,
+            nominal: self.design_nominal(),
             sets: &self.sets,
             string: self.string.as_ref(),
         }

@@ -230,8 +230,9 @@ fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
 }
 
 /// The covariance blocks, x0 first and then the noise blocks in the order `plant.noise_blocks`
-/// gives: each nominal covariance, or for a disturbance block its surrogate energy · W⁻¹ (seed 000
-/// eq (39)) with the disturbance itself in the third list. Returns the noise blocks' dimensions.
+/// gives: each nominal covariance, zero for a disturbance block (it is not noise; its energy bound
+/// is in the third list, and the designs see its surrogate through
+/// [`super::Experiment::design_nominal`]). Returns the noise blocks' dimensions.
 #[allow(clippy::type_complexity)]
 fn covariance_blocks(
     p: &PlantFile,
@@ -288,7 +289,7 @@ fn covariance_blocks(
             }
             let d = Disturbance { weight: w, energy: df.energy };
             dims.push((bn.to_string(), d.weight.nrows()));
-            blocks.push(d.surrogate_covariance());
+            blocks.push(Mat::zeros(d.weight.nrows(), d.weight.nrows()));
             disturbances.push(Some(d));
             continue;
         }

@@ -48,7 +48,7 @@ impl super::Family for H2 {
 
     fn design(input: &DesignInput, _p: &Params) -> Result<Design> {
         check_setting(input, &format!("filters.{}", input.name), &None)?;
-        let p2 = riccati(input.plant, input.nominal);
+        let p2 = riccati(input.plant, &input.nominal);
         let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&input.plant.cz * p * input.plant.cz.transpose()))).collect();
         let level = p2
             .iter()

@@ -188,21 +188,21 @@ impl super::Family for HinfLambda {
                 if p.margin.is_nan() || p.margin <= 0.0 {
                     return Err(Error::invalid(format!("{key}.margin"), "must be > 0"));
                 }
-                let lm = lambda_min(input.plant, input.nominal, &s)?;
+                let lm = lambda_min(input.plant, &input.nominal, &s)?;
                 (lm * (1.0 + p.margin), Some(lm))
             }
             _ => return Err(Error::invalid(format!("{key}.lambda"), "must be a positive number or \"min\"")),
         };
-        let gains = recursion(input.plant, input.nominal, &s, lambda)
+        let gains = recursion(input.plant, &input.nominal, &s, lambda)
             .map_err(|e| Error::design(input.name, format!("λ = {lambda} is too small: {e}")))?;
         let realization = predictor(input.plant, &gains);
-        let (norm2, _) = crate::analysis::hinf::norm(input.plant, &realization, input.nominal, &s)?;
+        let (norm2, _) = crate::analysis::hinf::norm(input.plant, &realization, &input.nominal, &s)?;
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("lambda".into(), lambda.into());
         if let Some(lm) = lmin {
             diagnostics.insert("lambda_min".into(), lm.into());
         }
-        let (sdp, iterations, seconds) = crate::analysis::hinf::norm_sdp(input.plant, &realization, input.nominal, &s)?;
+        let (sdp, iterations, seconds) = crate::analysis::hinf::norm_sdp(input.plant, &realization, &input.nominal, &s)?;
         diagnostics.insert("hinf_norm_squared_sdp".into(), sdp.into());
         diagnostics.insert("sdp_iterations".into(), iterations.into());
         diagnostics.insert("sdp_seconds".into(), seconds.into());

@@ -92,7 +92,7 @@ impl super::Family for Minimax {
         let at_hat = exact::error(input.plant, &realization, &sol.k_hat);
         // The certified guarantee is F̂'s exact worst case over the set, max_K J(F̂, K): it holds for any
         // filter, and for the minimax one it equals I(K̂) up to the final gap δ ≥ I(K̂) − I(K(s)).
-        let certified = exact::worst_case(input.plant, &realization, input.nominal, input.sets)?
+        let certified = exact::worst_case(input.plant, &realization, &input.nominal, input.sets)?
             .map(|w| w.total)
             .ok_or_else(|| Error::design(input.name, "no uncertainty set"))?;
         let mut diagnostics = serde_json::Map::new();

@@ -12,12 +12,12 @@ use crate::numerics::linalg::Mat;
 /// What a family designs from: the plant and its information pattern, the nominal covariances
 /// (a disturbance block holds its design surrogate, seed 000 eq (39)) and their uncertainty sets,
 /// and, for seed 004, the string. `name` is the filter's, for the keys in messages.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 pub struct DesignInput<'a> {
     pub name: &'a str,
     pub plant: &'a Plant,
     pub pattern: Pattern,
-    pub nominal: &'a Covariances,
+    pub nominal: Covariances,
     pub sets: &'a [Option<CovSet>],
     pub string: Option<&'a StringModel>,
 }
@@ -36,9 +36,9 @@ impl DesignInput<'_> {
     /// another filter: the caller refuses those with its own reason). `has_sets`: whether the
     /// choices that need an uncertainty set may be taken.
     pub fn design_point(&self, key: &str, choice: &CovChoiceFile, has_sets: bool) -> Result<Covariances> {
-        let c = CovChoice::resolve(key, choice, self.plant, self.nominal, has_sets, |_| None)?;
+        let c = CovChoice::resolve(key, choice, self.plant, &self.nominal, has_sets, |_| None)?;
         let cov = c
-            .point(self.nominal, self.sets)?
+            .point(&self.nominal, self.sets)?
             .ok_or_else(|| Error::invalid(key, "refers to a filter, which is not allowed here"))?;
         check_point(key, &c.label(|_| ""), self.plant, &cov)?;
         Ok(cov)

@@ -41,7 +41,7 @@ fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
     if p.switches() || p.nx() + p.horizon * p.nw() > GENERALIZED_H2_MAX_INPUTS {
         return Ok(None);
     }
-    crate::analysis::hinf::generalized_h2_norm_sq(p, real, &exp.sampling(&exp.nominal)).map(Some)
+    crate::analysis::hinf::generalized_h2_norm_sq(p, real, &exp.nominal).map(Some)
 }
 
 /// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
@@ -148,7 +148,7 @@ fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<A
 /// ([`crate::analysis::disturbance::worst`]), evaluated exactly at the joint maximizer. None if the experiment has
 /// neither sets nor disturbances.
 pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCase>> {
-    let center = exp.sampling(&exp.nominal);
+    let center = exp.nominal.clone();
     let sets = exact::worst_case(&exp.plant, real, &center, &exp.sets)?;
     let dist = crate::analysis::disturbance::worst(&exp.plant, real, &exp.disturbances)?;
     if sets.is_none() && dist.is_none() {

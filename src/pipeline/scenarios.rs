@@ -115,7 +115,7 @@ pub fn guarantee_holds(exp: &Experiment, design: &Design, cov: &Covariances, joi
 /// The joint input of a scenario, if it has one, with the ellipsoid weighted by the nominal
 /// covariances K = blockdiag(x0, w, …, w) (seed 002).
 fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice) -> Result<Option<JointInput>> {
-    let k = || crate::analysis::hinf::input_weight(&exp.plant, &exp.sampling(&exp.nominal));
+    let k = || crate::analysis::hinf::input_weight(&exp.plant, &exp.nominal);
     Ok(match input {
         InputChoice::Independent => None,
         InputChoice::EllipsoidSurface => {
@@ -132,7 +132,7 @@ fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice
                 Some(crate::filter::design::PerTrialBound::Ratio { terminal_weight, .. }) => terminal_weight.clone(),
                 _ => Mat::zeros(n, n),
             };
-            let (_, xi) = crate::analysis::hinf::norm(&exp.plant, &d.realization, &exp.sampling(&exp.nominal), &s)?;
+            let (_, xi) = crate::analysis::hinf::norm(&exp.plant, &d.realization, &exp.nominal, &s)?;
             Some(JointInput::Fixed { xi })
         }
         InputChoice::Coloured { anisotropy } => {
