@@ -61,6 +61,8 @@ impl std::fmt::Display for Infeasible {
 }
 
 /// The H∞-λ recursion (5.9)–(5.10): the gains Θ∞[t] for t = 0..N, or the first violated condition.
+/// It stays apart from [`crate::numerics::riccati`]: it runs in information form (P∞⁻¹ and M⁻¹, not
+/// S⁺) with the −λ⁻¹ CzᵀCz term, and checks feasibility at every step.
 pub fn recursion(
     plant: &Plant,
     weights: &Covariances,
@@ -122,19 +124,8 @@ pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> 
 
 /// The predictor realization of gains Θ[t]: s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
 pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
-    let n = plant.nx();
-    let steps = gains
-        .iter()
-        .enumerate()
-        .map(|(t, th)| Gains {
-            af: &plant.a - th * &*plant.c_at(t),
-            bf: th.clone(),
-            cf: plant.cz.clone(),
-            df: Mat::zeros(plant.nz(), plant.ny()),
-            gf: Mat::identity(n, n),
-        })
-        .collect();
-    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n))
+    let steps = gains.iter().enumerate().map(|(t, th)| Gains::predictor(&plant.a, &plant.c_at(t), th, &plant.cz)).collect();
+    Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
 
 /// Checks that the plant and weights fit seed 002's setting; returns S.

@@ -21,7 +21,8 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput, TraceRow};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize};
+use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Modes, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
@@ -121,10 +122,7 @@ pub fn finite(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         by_mode.push((0..q).map(|s| predictor_gains(plant, k, s, &gains[s])).collect());
         p = next;
     }
-    (
-        Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx())),
-        predicted,
-    )
+    (estimator(plant, by_mode), predicted)
 }
 
 /// One step of (15)–(16) at step k with mode probabilities `prob`: the gains K_s and P(n+1).
@@ -135,10 +133,9 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
     let mut contrib = Vec::with_capacity(q);
     for s in 0..q {
         let (a, b, c, d) = (plant.a_of(s), plant.b_of(s), &*plant.c_of(k, s), &*plant.d_of(k, s));
-        let sm = symmetrize(&(c * &p[s] * c.transpose() + prob[s] * (d * w * d.transpose())));
-        let kg = (a * &p[s] * c.transpose() + prob[s] * (b * w * d.transpose())) * psd_pinv(&sm);
-        contrib.push(a * &p[s] * a.transpose() + prob[s] * (b * w * b.transpose()) - &kg * &sm * kg.transpose());
-        gains.push(kg);
+        let inn = riccati::innovation(a, c, &p[s], &(prob[s] * (d * w * d.transpose())), &(prob[s] * (b * w * d.transpose())));
+        contrib.push(riccati::propagate(a, &p[s], &(prob[s] * (b * w * b.transpose())), &inn.k, &inn.s));
+        gains.push(inn.k);
     }
     let pi = plant.transition();
     let next =
@@ -148,20 +145,17 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
 
 /// The gains of the predictor in mode s with gain K: Af = A_s − K C_s, Bf = K, Cf = Cz.
 fn predictor_gains(plant: &Plant, k: usize, s: usize, kg: &Mat) -> Gains {
-    Gains {
-        af: plant.a_of(s) - kg * &*plant.c_of(k, s),
-        bf: kg.clone(),
-        cf: plant.cz.clone(),
-        df: Mat::zeros(plant.nz(), plant.ny()),
-        gf: Mat::identity(plant.nx(), plant.nx()),
-    }
+    Gains::predictor(plant.a_of(s), &plant.c_of(k, s), kg, &plant.cz)
+}
+
+/// The mode-indexed state estimator with gains `by_mode[k][s]`.
+fn estimator(plant: &Plant, by_mode: Vec<Vec<Gains>>) -> Realization {
+    Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx()))
 }
 
 /// The predictor with constant gains K_s at every step.
 fn constant(plant: &Plant, k: &[Mat]) -> Realization {
-    let by_mode =
-        (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect()).collect();
-    Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx()))
+    estimator(plant, (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect()).collect())
 }
 
 /// The stationary solution (17)–(18).
