@@ -18,6 +18,7 @@ use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
 use crate::model::plant::{Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::plant::Pattern;
+use crate::numerics::solve::line::bisect;
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
@@ -114,11 +115,8 @@ pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> 
             return Err(Error::invalid("lambda", "no feasible λ found below 2^200"));
         }
     }
-    let mut lo = 0.0;
-    while hi - lo > 1e-12 * hi {
-        let mid = 0.5 * (lo + hi);
-        if recursion(plant, weights, s, mid).is_ok() { hi = mid } else { lo = mid }
-    }
+    let below = |l: f64| recursion(plant, weights, s, l).is_err();
+    let (_, hi) = bisect(0.0, hi, below, |lo, hi| !(hi - lo > 1e-12 * hi), usize::MAX);
     Ok(hi)
 }
 
