@@ -38,7 +38,6 @@ impl super::Family for Intermittent {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let key = format!("filters.{}.design", input.name);
         if input.pattern != Pattern::Prediction {
             return Err(Error::design(
                 input.name,
@@ -51,10 +50,7 @@ impl super::Family for Intermittent {
                 "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
             ));
         }
-        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
-        }
-        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let cov = super::own_design_point(input, &p.design, "this filter")?;
         let (realization, predicted) = predictor(input.plant, &cov);
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("riccati_summed_error".into(), predicted.into());

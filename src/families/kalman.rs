@@ -68,11 +68,7 @@ impl super::Family for Kalman {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let key = format!("filters.{}.design", input.name);
-        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's covariance"));
-        }
-        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let cov = super::own_design_point(input, &p.design, "a Kalman filter")?;
         if p.plant == PlantChoice::ModeAveraged {
             let avg = mode_averaged(input.plant, input.name)?;
             let mut d = design_at(&avg, cov, input.pattern);

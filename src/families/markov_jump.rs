@@ -67,11 +67,7 @@ impl super::Family for MarkovJump {
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
         };
-        let key = format!("filters.{name}.design");
-        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
-        }
-        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let cov = super::own_design_point(input, &p.design, "this filter")?;
         let plant = input.plant;
         let w = cov.w();
         let mut diagnostics = serde_json::Map::new();
