@@ -122,7 +122,8 @@ pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> 
 
 /// The predictor realization of gains Θ[t]: s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
 pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
-    let steps = gains.iter().enumerate().map(|(t, th)| Gains::predictor(&plant.a, &plant.c_at(t), th, &plant.cz)).collect();
+    let steps =
+        gains.iter().enumerate().map(|(t, th)| Gains::predictor(&plant.a, &plant.c_at(t), th, &plant.cz)).collect();
     Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
 

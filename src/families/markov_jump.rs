@@ -129,7 +129,8 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
     let mut contrib = Vec::with_capacity(q);
     for s in 0..q {
         let (a, b, c, d) = (plant.a_of(s), plant.b_of(s), &*plant.c_of(k, s), &*plant.d_of(k, s));
-        let inn = riccati::innovation(a, c, &p[s], &(prob[s] * (d * w * d.transpose())), &(prob[s] * (b * w * d.transpose())));
+        let (dwd, bwd) = (prob[s] * (d * w * d.transpose()), prob[s] * (b * w * d.transpose()));
+        let inn = riccati::innovation(a, c, &p[s], &dwd, &bwd);
         contrib.push(riccati::propagate(a, &p[s], &(prob[s] * (b * w * b.transpose())), &inn.k, &inn.s));
         gains.push(inn.k);
     }
@@ -151,7 +152,8 @@ fn estimator(plant: &Plant, by_mode: Vec<Vec<Gains>>) -> Realization {
 
 /// The predictor with constant gains K_s at every step.
 fn constant(plant: &Plant, k: &[Mat]) -> Realization {
-    estimator(plant, (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect()).collect())
+    let by_mode = (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect());
+    estimator(plant, by_mode.collect())
 }
 
 /// The stationary solution (17)–(18).

@@ -150,9 +150,7 @@ impl CovChoice {
         if needs_set && !has_sets {
             return Err(Error::invalid(key, "this covariance choice needs an uncertainty set: add [sets.BLOCK]"));
         }
-        let index = |name: &str| {
-            filter_index(name).ok_or_else(|| Error::no_filter(key, name))
-        };
+        let index = |name: &str| filter_index(name).ok_or_else(|| Error::no_filter(key, name));
         Ok(match f {
             CovChoiceFile::Nominal => CovChoice::Nominal,
             CovChoiceFile::Given { blocks } => CovChoice::Given(given_covariances(key, plant, nominal, blocks)?),
