@@ -16,7 +16,7 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
 use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
@@ -49,8 +49,7 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
         .modes()
         .ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
     let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
-    let avg =
-        |ms: &[Mat]| ms.iter().zip(&pi).fold(Mat::zeros(ms[0].nrows(), ms[0].ncols()), |acc, (x, p)| acc + *p * x);
+    let avg = |ms: &[Mat]| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms));
     let mut out = plant.clone();
     out.a = avg(&m.a);
     out.b = avg(&m.b);

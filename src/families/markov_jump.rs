@@ -21,7 +21,7 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput, TraceRow};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
 use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Modes, Plant};
 use crate::filter::realization::{Gains, Realization};
@@ -135,8 +135,7 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
         gains.push(inn.k);
     }
     let pi = plant.transition();
-    let next =
-        (0..q).map(|kk| symmetrize(&(0..q).fold(Mat::zeros(n, n), |acc, s| acc + pi[(s, kk)] * &contrib[s]))).collect();
+    let next = (0..q).map(|kk| symmetrize(&weighted_sum(n, n, (0..q).map(|s| (pi[(s, kk)], &contrib[s]))))).collect();
     (gains, next)
 }
 
@@ -262,7 +261,7 @@ pub fn cost_and_gradient(plant: &Plant, modes: &Modes, prob: &[f64], k: &Mat, w:
     let kc = plant.horizon.max(plant.first_measurement);
     let mut grad = Mat::zeros(k.nrows(), k.ncols());
     for s in 0..q {
-        let vbar = (0..q).fold(Mat::zeros(plant.nx(), plant.nx()), |acc, kk| acc + modes.transition[(s, kk)] * &v[kk]);
+        let vbar = weighted_sum(plant.nx(), plant.nx(), (0..q).map(|kk| (modes.transition[(s, kk)], &v[kk])));
         let (c, d) = (&*plant.c_of(kc, s), &*plant.d_of(kc, s));
         let ms = plant.a_of(s) - k * c;
         let bd = plant.b_of(s) - k * d;
@@ -278,7 +277,7 @@ pub fn common(plant: &Plant, modes: &Modes, w: &Mat) -> std::result::Result<Comm
     let mode_dependent_cost = stationary_cost(plant, &st.p);
     let (n, ny) = (plant.nx(), plant.ny());
     let dim = n * ny;
-    let mut k = st.k.iter().zip(&prob).fold(Mat::zeros(n, ny), |acc, (ks, ps)| acc + *ps * ks);
+    let mut k = weighted_sum(n, ny, prob.iter().copied().zip(&st.k));
     let (mut j, mut g) = cost_and_gradient(plant, modes, &prob, &k, w).ok_or(
         "the averaged mode-dependent gain is not mean-square stabilizing; no starting point for the common gain",
     )?;

@@ -115,6 +115,12 @@ pub fn sym_unit(n: usize, i: usize, j: usize) -> Mat {
     e
 }
 
+/// Σ_i w_i X_i for r×c matrices X_i, summed in the order given, starting from zero: a stationary
+/// average Σ_s π_s X_s, or the mixing Σ_j Π_ji X_j of per-mode moments by a Markov chain.
+pub fn weighted_sum<X: std::borrow::Borrow<Mat>>(r: usize, c: usize, terms: impl IntoIterator<Item = (f64, X)>) -> Mat {
+    terms.into_iter().fold(Mat::zeros(r, c), |acc, (w, x)| acc + w * x.borrow())
+}
+
 /// Block-diagonal matrix of the given square blocks.
 pub fn block_diag(blocks: &[&Mat]) -> Mat {
     let n: usize = blocks.iter().map(|b| b.nrows()).sum();
