@@ -32,6 +32,10 @@ impl Error {
     pub fn design(filter: impl Into<String>, cause: impl Into<String>) -> Self {
         Error::Design { filter: filter.into(), cause: cause.into() }
     }
+    /// `{key}.filter` names no filter of the experiment.
+    pub fn no_filter(key: &str, name: &str) -> Self {
+        Error::invalid(format!("{key}.filter"), format!("no filter named `{name}` in this experiment"))
+    }
     pub fn io(path: impl Into<PathBuf>, cause: impl std::fmt::Display) -> Self {
         Error::Io { path: path.into(), cause: cause.to_string() }
     }

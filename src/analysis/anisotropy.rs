@@ -9,6 +9,7 @@
 
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, sym_eigen, symmetrize};
+use crate::numerics::solve::line::bisect;
 
 /// A(W) = −½ ln det(m Σ / tr Σ) for W ~ N(0, Σ) (Σ positive definite).
 pub fn gaussian_anisotropy(sigma: &Mat) -> f64 {
@@ -60,23 +61,12 @@ pub fn anisotropic_norm_from_eigenvalues(mu: &[f64], a: f64) -> Result<Anisotrop
         return Ok(AnisotropicNorm { value: gain_at(mu, 0.0), q: 0.0 });
     }
     let qmax = 1.0 / top;
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
     // Anisotropy reachable below qmax: if even (1 − 1e-15) qmax gives less than a, the sup is the
     // limit ‖F‖∞.
     if anisotropy_at(mu, qmax * (1.0 - 1e-15)) < a {
         return Ok(AnisotropicNorm { value: top.sqrt(), q: qmax });
     }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if anisotropy_at(mu, mid * qmax) < a {
-            lo = mid
-        } else {
-            hi = mid
-        }
-        if hi - lo < 1e-16 {
-            break;
-        }
-    }
+    let (lo, hi) = bisect(0.0, 1.0, |t| anisotropy_at(mu, t * qmax) < a, |lo, hi| hi - lo < 1e-16, 200);
     let q = 0.5 * (lo + hi) * qmax;
     Ok(AnisotropicNorm { value: gain_at(mu, q), q })
 }

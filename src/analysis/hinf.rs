@@ -9,7 +9,7 @@ use crate::analysis::exact::{Augmented, augmented};
 use crate::error::{Error, Result};
 use crate::filter::realization::Realization;
 use crate::model::plant::{Covariances, Plant};
-use crate::numerics::linalg::{Mat, Vector, block_diag, psd_factor, top_eigen};
+use crate::numerics::linalg::{Mat, Vector, block_diag, psd_factor, sym_unit, top_eigen};
 use crate::numerics::solve::conic::Conic;
 
 /// What the last block of rows of Ψ holds.
@@ -160,12 +160,6 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     let lam = nn * tri;
     // Variable (t, i, j), t = 1..N: X[t]_{ij} = X[t]_{ji}.
     let var = |t: usize, i: usize, j: usize| (t - 1) * tri + j * (j + 1) / 2 + i;
-    let unit = |i: usize, j: usize| {
-        let mut e = Mat::zeros(n, n);
-        e[(i, j)] = 1.0;
-        e[(j, i)] = 1.0;
-        e
-    };
     let mut program = Conic::default();
     let d = n + nw + nz;
     for t in 0..nn {
@@ -183,7 +177,7 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
         let mut terms = Vec::new();
         for j in 0..n {
             for i in 0..=j {
-                let e = unit(i, j);
+                let e = sym_unit(n, i, j);
                 let mut m = Mat::zeros(d, d);
                 m.view_mut((0, 0), (n, n)).copy_from(&(-(ac.transpose() * &e * &ac)));
                 m.view_mut((0, n), (n, nw)).copy_from(&(-(ac.transpose() * &e * &bc)));
@@ -210,7 +204,7 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     for j in 0..n {
         for i in 0..=j {
             let mut m = Mat::zeros(2 * n, 2 * n);
-            m.view_mut((0, 0), (n, n)).copy_from(&unit(i, j));
+            m.view_mut((0, 0), (n, n)).copy_from(&sym_unit(n, i, j));
             terms.push((var(nn, i, j), m));
         }
     }

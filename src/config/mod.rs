@@ -92,6 +92,11 @@ impl FilterSpec {
     }
 }
 
+/// The index of the filter named `name` among `filters`.
+pub(crate) fn filter_index(filters: &[FilterSpec], name: &str) -> Option<usize> {
+    filters.iter().position(|f| f.name == name)
+}
+
 /// A validated experiment, ready to design and run.
 #[derive(Clone, Debug)]
 pub struct Experiment {
@@ -151,7 +156,7 @@ impl Experiment {
         self.disturbances.iter().any(Option::is_some)
     }
     pub fn filter_index(&self, name: &str) -> Option<usize> {
-        self.filters.iter().position(|f| f.name == name)
+        filter_index(&self.filters, name)
     }
 
     /// What filter `i`'s family designs from.

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use super::modes::resolve_modes;
 use super::schema::*;
-use super::{Experiment, FilterSpec, Input, Scenario, check_name, check_trials, sample_count};
+use super::{Experiment, FilterSpec, Input, Scenario, check_name, check_trials, filter_index, sample_count};
 use crate::analysis::anisotropy::gaussian_anisotropy;
 use crate::error::{Error, Result};
 use crate::model::choice::CovChoice;
@@ -366,17 +366,13 @@ fn sets(
     plant: &Plant,
     nominal: &Covariances,
 ) -> Result<Vec<Option<CovSet>>> {
-    let names: Vec<String> = plant.block_names().iter().map(|s| s.to_string()).collect();
-    let mut sets: Vec<Option<CovSet>> = vec![None; names.len()];
+    let mut sets: Vec<Option<CovSet>> = vec![None; plant.block_names().len()];
     for (bn, Strict(s)) in files {
         let key = format!("sets.{bn}");
         if disturbances.contains_key(bn) {
             return Err(Error::invalid(key, "a disturbance block has an energy bound, not a covariance set"));
         }
-        let i = names
-            .iter()
-            .position(|n| n == bn)
-            .ok_or_else(|| Error::invalid(&key, format!("unknown covariance block (known: {})", names.join(", "))))?;
+        let i = plant.block_index(&key, bn)?;
         let nom = &nominal.blocks[i];
         let d = nom.nrows();
         let matrix = |name: &str, r: &Rows| from_rows(&format!("{key}.{name}"), r, Some((d, d)));
@@ -445,17 +441,11 @@ fn scenarios(
             ));
         }
         let key = format!("scenarios.{}.covariance", s.name);
-        let covariance = CovChoice::resolve(&key, &s.covariance, plant, nominal, has_sets, |n| {
-            filters.iter().position(|x| x.name == n)
-        })?;
+        let covariance =
+            CovChoice::resolve(&key, &s.covariance, plant, nominal, has_sets, |n| filter_index(filters, n))?;
         s.shape.validate(&format!("scenarios.{}.shape", s.name))?;
-        let index_of = |key: String| {
-            move |name: String| {
-                filters.iter().position(|x| x.name == name).ok_or_else(|| {
-                    Error::invalid(format!("{key}.filter"), format!("no filter named `{name}` in this experiment"))
-                })
-            }
-        };
+        let index_of =
+            |key: String| move |name: String| filter_index(filters, &name).ok_or_else(|| Error::no_filter(&key, &name));
         let dkey = format!("scenarios.{}.disturbance", s.name);
         if s.disturbance != DisturbanceChoice::None && !disturbances.iter().any(Option::is_some) {
             return Err(Error::invalid(dkey, "the plant has no [disturbances] block"));

@@ -153,15 +153,9 @@ fn check_setting(input: &DesignInput) -> Result<()> {
 pub fn realization(plant: &Plant, syn: &Synthesis) -> Realization {
     let p = plant.arrival_mean();
     let steps = (0..plant.steps())
-        .map(|k| Gains {
-            af: &syn.w[k] - p * &syn.h[k] * &plant.c,
-            bf: syn.h[k].clone(),
-            cf: plant.cz.clone(),
-            df: Mat::zeros(plant.nz(), plant.ny()),
-            gf: Mat::identity(plant.nx(), plant.nx()),
-        })
+        .map(|k| Gains::predicting(&syn.w[k] - p * &syn.h[k] * &plant.c, syn.h[k].clone(), &plant.cz))
         .collect();
-    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(plant.nx(), plant.nx()))
+    Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
 
 /// Solves the LMIs (4.42)–(4.43) with the terminal conditions and the convex determinant

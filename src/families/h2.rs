@@ -16,6 +16,7 @@ use super::kalman::design_at;
 use crate::filter::design::{Design, DesignInput, PerTrialBound};
 use crate::error::Result;
 use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Plant};
 use crate::model::plant::Pattern;
 
@@ -32,9 +33,11 @@ pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
     for t in 0..plant.steps() {
         out.push(p.clone());
         let (c, d) = (&*plant.c_at(t), &*plant.d_at(t));
+        // Not riccati::innovation: seed 002's gain has no B G Dᵀ term (the split (5.5) makes it
+        // zero) and S is used as computed, unsymmetrized, so P2 keeps its figures.
         let s = c * &p * c.transpose() + d * &w * d.transpose();
         let k = &plant.a * &p * c.transpose() * psd_pinv(&s);
-        p = symmetrize(&(&plant.a * &p * plant.a.transpose() + &gb - &k * &s * k.transpose()));
+        p = symmetrize(&riccati::propagate(&plant.a, &p, &gb, &k, &s));
     }
     out
 }

@@ -18,6 +18,7 @@ use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
 use crate::model::plant::{Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::plant::Pattern;
+use crate::numerics::solve::line::bisect;
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
@@ -61,6 +62,8 @@ impl std::fmt::Display for Infeasible {
 }
 
 /// The H∞-λ recursion (5.9)–(5.10): the gains Θ∞[t] for t = 0..N, or the first violated condition.
+/// It stays apart from [`crate::numerics::riccati`]: it runs in information form (P∞⁻¹ and M⁻¹, not
+/// S⁺) with the −λ⁻¹ CzᵀCz term, and checks feasibility at every step.
 pub fn recursion(
     plant: &Plant,
     weights: &Covariances,
@@ -112,29 +115,16 @@ pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> 
             return Err(Error::invalid("lambda", "no feasible λ found below 2^200"));
         }
     }
-    let mut lo = 0.0;
-    while hi - lo > 1e-12 * hi {
-        let mid = 0.5 * (lo + hi);
-        if recursion(plant, weights, s, mid).is_ok() { hi = mid } else { lo = mid }
-    }
+    let below = |l: f64| recursion(plant, weights, s, l).is_err();
+    let (_, hi) = bisect(0.0, hi, below, |lo, hi| !(hi - lo > 1e-12 * hi), usize::MAX);
     Ok(hi)
 }
 
 /// The predictor realization of gains Θ[t]: s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
 pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
-    let n = plant.nx();
-    let steps = gains
-        .iter()
-        .enumerate()
-        .map(|(t, th)| Gains {
-            af: &plant.a - th * &*plant.c_at(t),
-            bf: th.clone(),
-            cf: plant.cz.clone(),
-            df: Mat::zeros(plant.nz(), plant.ny()),
-            gf: Mat::identity(n, n),
-        })
-        .collect();
-    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n))
+    let steps =
+        gains.iter().enumerate().map(|(t, th)| Gains::predictor(&plant.a, &plant.c_at(t), th, &plant.cz)).collect();
+    Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
 
 /// Checks that the plant and weights fit seed 002's setting; returns S.

@@ -16,7 +16,8 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::numerics::linalg::{psd_pinv, symmetrize};
+use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
@@ -37,7 +38,6 @@ impl super::Family for Intermittent {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let key = format!("filters.{}.design", input.name);
         if input.pattern != Pattern::Prediction {
             return Err(Error::design(
                 input.name,
@@ -50,10 +50,7 @@ impl super::Family for Intermittent {
                 "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
             ));
         }
-        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
-        }
-        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let cov = super::own_design_point(input, &p.design, "this filter")?;
         let (realization, predicted) = predictor(input.plant, &cov);
         let mut design = super::exact_at_design(input.plant, realization, cov, serde_json::Map::new());
         design.figures.riccati_summed_error = Some(predicted);
@@ -66,7 +63,6 @@ impl super::Family for Intermittent {
 pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
     let w = cov.w();
     let (p, v) = (plant.arrival_mean(), plant.dropout_variance());
-    let n = plant.nx();
     let mut pe = cov.x0().clone();
     let mut m = plant.x0_mean.clone();
     let mut x = &pe + &m * m.transpose();
@@ -77,17 +73,13 @@ pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         if plant.counts(k) {
             predicted += (&plant.cz * &pe * plant.cz.transpose() + &plant.dz * &w * plant.dz.transpose()).trace();
         }
+        // S and H carry p inside the products (not riccati::innovation's C P Cᵀ): p² C P Cᵀ is
+        // computed as ((p²C) P) Cᵀ, and the figures must stay as they were.
         let s = symmetrize(&(p * p * c * &pe * c.transpose() + v * c * &x * c.transpose() + d * &w * d.transpose()));
         let h = (p * &plant.a * &pe * c.transpose() + &plant.b * &w * d.transpose()) * psd_pinv(&s);
-        steps.push(Gains {
-            af: &plant.a - p * &h * c,
-            bf: h.clone(),
-            cf: plant.cz.clone(),
-            df: Mat::zeros(plant.nz(), plant.ny()),
-            gf: Mat::identity(n, n),
-        });
+        steps.push(Gains::predicting(&plant.a - p * &h * c, h.clone(), &plant.cz));
         let bwb = &plant.b * &w * plant.b.transpose();
-        pe = symmetrize(&(&plant.a * &pe * plant.a.transpose() + &bwb - &h * &s * h.transpose()));
+        pe = symmetrize(&riccati::propagate(&plant.a, &pe, &bwb, &h, &s));
         let mut xn = &plant.a * &x * plant.a.transpose() + &bwb;
         let mut mn = &plant.a * &m;
         if let Some(r) = plant.r_at(k) {
@@ -98,5 +90,5 @@ pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         x = symmetrize(&xn);
         m = mn;
     }
-    (Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n)), predicted)
+    (Realization::state_estimator(plant.x0_mean.clone(), steps), predicted)
 }

@@ -16,7 +16,8 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
+use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
@@ -48,8 +49,7 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
         .modes()
         .ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
     let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
-    let avg =
-        |ms: &[Mat]| ms.iter().zip(&pi).fold(Mat::zeros(ms[0].nrows(), ms[0].ncols()), |acc, (x, p)| acc + *p * x);
+    let avg = |ms: &[Mat]| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms));
     let mut out = plant.clone();
     out.a = avg(&m.a);
     out.b = avg(&m.b);
@@ -67,11 +67,7 @@ impl super::Family for Kalman {
     type Params = Params;
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let key = format!("filters.{}.design", input.name);
-        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(key, "a Kalman filter cannot be designed at another filter's covariance"));
-        }
-        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let cov = super::own_design_point(input, &p.design, "a Kalman filter")?;
         if p.plant == PlantChoice::ModeAveraged {
             let avg = mode_averaged(input.plant, input.name)?;
             let mut d = design_at(&avg, cov, input.pattern);
@@ -109,25 +105,21 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
 pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization {
     let w = cov.w();
     let mut pbar = cov.x0().clone();
-    let n = plant.nx();
+    let bwb = &plant.b * &w * plant.b.transpose();
     let mut steps = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         let wd = &w * d.transpose();
-        let s = symmetrize(&(c * &pbar * c.transpose() + d * &wd));
-        let s_inv = psd_pinv(&s);
-        let l = (&plant.a * &pbar * c.transpose() + &plant.b * &wd) * &s_inv;
-        let (cf, df) = match pattern {
+        let inn = riccati::innovation(&plant.a, c, &pbar, &(d * &wd), &(&plant.b * &wd));
+        let predictor = Gains::predictor(&plant.a, c, &inn.k, &plant.cz);
+        steps.push(match pattern {
             Pattern::Filtering => {
-                let lz = (&plant.cz * &pbar * c.transpose() + &plant.dz * &wd) * &s_inv;
-                (&plant.cz - &lz * c, lz)
+                let lz = (&plant.cz * &pbar * c.transpose() + &plant.dz * &wd) * &inn.s_inv;
+                Gains { cf: &plant.cz - &lz * c, df: lz, ..predictor }
             }
-            Pattern::Prediction => (plant.cz.clone(), Mat::zeros(plant.nz(), plant.ny())),
-        };
-        steps.push(Gains { af: &plant.a - &l * c, bf: l.clone(), cf, df, gf: Mat::identity(n, n) });
-        pbar = symmetrize(
-            &(&plant.a * &pbar * plant.a.transpose() + &plant.b * &w * plant.b.transpose() - &l * &s * l.transpose()),
-        );
+            Pattern::Prediction => predictor,
+        });
+        pbar = symmetrize(&riccati::propagate(&plant.a, &pbar, &bwb, &inn.k, &inn.s));
     }
-    Realization::new(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n))
+    Realization::state_estimator(plant.x0_mean.clone(), steps)
 }

@@ -21,7 +21,8 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput, TraceRow};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
+use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Modes, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
@@ -66,11 +67,7 @@ impl super::Family for MarkovJump {
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
         };
-        let key = format!("filters.{name}.design");
-        if matches!(p.design, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(key, "this filter cannot be designed at another filter's covariance"));
-        }
-        let cov = input.design_point(&key, &p.design, input.has_sets())?;
+        let cov = super::own_design_point(input, &p.design, "this filter")?;
         let plant = input.plant;
         let w = cov.w();
         let mut diagnostics = serde_json::Map::new();
@@ -121,10 +118,7 @@ pub fn finite(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
         by_mode.push((0..q).map(|s| predictor_gains(plant, k, s, &gains[s])).collect());
         p = next;
     }
-    (
-        Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx())),
-        predicted,
-    )
+    (estimator(plant, by_mode), predicted)
 }
 
 /// One step of (15)–(16) at step k with mode probabilities `prob`: the gains K_s and P(n+1).
@@ -135,33 +129,30 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
     let mut contrib = Vec::with_capacity(q);
     for s in 0..q {
         let (a, b, c, d) = (plant.a_of(s), plant.b_of(s), &*plant.c_of(k, s), &*plant.d_of(k, s));
-        let sm = symmetrize(&(c * &p[s] * c.transpose() + prob[s] * (d * w * d.transpose())));
-        let kg = (a * &p[s] * c.transpose() + prob[s] * (b * w * d.transpose())) * psd_pinv(&sm);
-        contrib.push(a * &p[s] * a.transpose() + prob[s] * (b * w * b.transpose()) - &kg * &sm * kg.transpose());
-        gains.push(kg);
+        let (dwd, bwd) = (prob[s] * (d * w * d.transpose()), prob[s] * (b * w * d.transpose()));
+        let inn = riccati::innovation(a, c, &p[s], &dwd, &bwd);
+        contrib.push(riccati::propagate(a, &p[s], &(prob[s] * (b * w * b.transpose())), &inn.k, &inn.s));
+        gains.push(inn.k);
     }
     let pi = plant.transition();
-    let next =
-        (0..q).map(|kk| symmetrize(&(0..q).fold(Mat::zeros(n, n), |acc, s| acc + pi[(s, kk)] * &contrib[s]))).collect();
+    let next = (0..q).map(|kk| symmetrize(&weighted_sum(n, n, (0..q).map(|s| (pi[(s, kk)], &contrib[s]))))).collect();
     (gains, next)
 }
 
 /// The gains of the predictor in mode s with gain K: Af = A_s − K C_s, Bf = K, Cf = Cz.
 fn predictor_gains(plant: &Plant, k: usize, s: usize, kg: &Mat) -> Gains {
-    Gains {
-        af: plant.a_of(s) - kg * &*plant.c_of(k, s),
-        bf: kg.clone(),
-        cf: plant.cz.clone(),
-        df: Mat::zeros(plant.nz(), plant.ny()),
-        gf: Mat::identity(plant.nx(), plant.nx()),
-    }
+    Gains::predictor(plant.a_of(s), &plant.c_of(k, s), kg, &plant.cz)
+}
+
+/// The mode-indexed state estimator with gains `by_mode[k][s]`.
+fn estimator(plant: &Plant, by_mode: Vec<Vec<Gains>>) -> Realization {
+    Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx()))
 }
 
 /// The predictor with constant gains K_s at every step.
 fn constant(plant: &Plant, k: &[Mat]) -> Realization {
-    let by_mode =
-        (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect()).collect();
-    Realization::mode_indexed(plant.x0_mean.clone(), by_mode).tracking(Mat::identity(plant.nx(), plant.nx()))
+    let by_mode = (0..plant.steps()).map(|n| (0..k.len()).map(|s| predictor_gains(plant, n, s, &k[s])).collect());
+    estimator(plant, by_mode.collect())
 }
 
 /// The stationary solution (17)–(18).
@@ -270,7 +261,7 @@ pub fn cost_and_gradient(plant: &Plant, modes: &Modes, prob: &[f64], k: &Mat, w:
     let kc = plant.horizon.max(plant.first_measurement);
     let mut grad = Mat::zeros(k.nrows(), k.ncols());
     for s in 0..q {
-        let vbar = (0..q).fold(Mat::zeros(plant.nx(), plant.nx()), |acc, kk| acc + modes.transition[(s, kk)] * &v[kk]);
+        let vbar = weighted_sum(plant.nx(), plant.nx(), (0..q).map(|kk| (modes.transition[(s, kk)], &v[kk])));
         let (c, d) = (&*plant.c_of(kc, s), &*plant.d_of(kc, s));
         let ms = plant.a_of(s) - k * c;
         let bd = plant.b_of(s) - k * d;
@@ -286,7 +277,7 @@ pub fn common(plant: &Plant, modes: &Modes, w: &Mat) -> std::result::Result<Comm
     let mode_dependent_cost = stationary_cost(plant, &st.p);
     let (n, ny) = (plant.nx(), plant.ny());
     let dim = n * ny;
-    let mut k = st.k.iter().zip(&prob).fold(Mat::zeros(n, ny), |acc, (ks, ps)| acc + *ps * ks);
+    let mut k = weighted_sum(n, ny, prob.iter().copied().zip(&st.k));
     let (mut j, mut g) = cost_and_gradient(plant, modes, &prob, &k, w).ok_or(
         "the averaged mode-dependent gain is not mean-square stabilizing; no starting point for the common gain",
     )?;

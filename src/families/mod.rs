@@ -11,6 +11,7 @@ use serde::de::DeserializeOwned;
 use crate::error::{Error, Result};
 use crate::filter::design::{Design, DesignInput, Guarantee, GuaranteeKind};
 use crate::filter::realization::Realization;
+use crate::model::choice::CovChoiceFile;
 use crate::model::plant::Covariances;
 
 /// A filter family: a design procedure with its name and typed parameters (argmin's `Solver` in
@@ -102,6 +103,17 @@ pub fn design(configured: &dyn Configured, input: &DesignInput) -> Result<Design
     let d = configured.design(input)?;
     d.realization.check(input.name, input.plant, input.pattern)?;
     Ok(d)
+}
+
+/// The covariance a family designs at, `filters.NAME.design`: any choice but those that name
+/// another filter (`worst_for`, `design_of`), which `who` refuses (a filter designed at its own
+/// covariance cannot wait for another's design).
+fn own_design_point(input: &DesignInput, choice: &CovChoiceFile, who: &str) -> Result<Covariances> {
+    let key = input.key("design");
+    if matches!(choice, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
+        return Err(Error::invalid(key, format!("{who} cannot be designed at another filter's covariance")));
+    }
+    input.design_point(&key, choice, input.has_sets())
 }
 
 /// A filter designed at `cov` that promises its exact error there (`exact_at_design`).

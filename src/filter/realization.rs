@@ -24,6 +24,20 @@ pub struct Gains {
     pub gf: Mat,
 }
 
+impl Gains {
+    /// A one-step predictor of z = Cz x whose state estimates x: the given Af and Bf, ẑ = Cz s
+    /// (Df = 0) and Gf = I (the known input enters as in the plant).
+    pub fn predicting(af: Mat, bf: Mat, cz: &Mat) -> Self {
+        let (n, nz, ny) = (af.nrows(), cz.nrows(), bf.ncols());
+        Gains { af, bf, cf: cz.clone(), df: Mat::zeros(nz, ny), gf: Mat::identity(n, n) }
+    }
+    /// The predictor with gain K on y = C x + …: Af = A − K C, Bf = K, Cf = Cz (seed 000 eq (4),
+    /// seed 001 eq (6), seed 002 eq (5.7)).
+    pub fn predictor(a: &Mat, c: &Mat, k: &Mat, cz: &Mat) -> Self {
+        Self::predicting(a - k * c, k.clone(), cz)
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct Realization {
     pub s0: Vector,
@@ -40,6 +54,11 @@ pub struct Realization {
 impl Realization {
     pub fn new(s0: Vector, steps: Vec<Gains>) -> Self {
         Realization { s0, gains: steps.into_iter().map(|g| vec![g]).collect(), tracks: None }
+    }
+    /// A state estimator, one set of gains per step: its state tracks x (M = I).
+    pub fn state_estimator(s0: Vector, steps: Vec<Gains>) -> Self {
+        let n = s0.len();
+        Realization::new(s0, steps).tracking(Mat::identity(n, n))
     }
     /// The same realization, declaring that its state estimates M x (see `tracks`).
     pub fn tracking(mut self, m: Mat) -> Self {

@@ -93,12 +93,9 @@ pub fn given_covariances(
     nominal: &Covariances,
     blocks: &BTreeMap<String, Rows>,
 ) -> Result<Covariances> {
-    let names = plant.block_names();
     let mut out = nominal.clone();
     for (bname, rows) in blocks {
-        let i = names.iter().position(|n| n == bname).ok_or_else(|| {
-            Error::invalid(format!("{key}.{bname}"), format!("unknown covariance block (known: {})", names.join(", ")))
-        })?;
+        let i = plant.block_index(&format!("{key}.{bname}"), bname)?;
         let d = nominal.blocks[i].nrows();
         let m = from_rows(&format!("{key}.{bname}"), rows, Some((d, d)))?;
         check_psd(&format!("{key}.{bname}"), &m)?;
@@ -153,11 +150,7 @@ impl CovChoice {
         if needs_set && !has_sets {
             return Err(Error::invalid(key, "this covariance choice needs an uncertainty set: add [sets.BLOCK]"));
         }
-        let index = |name: &str| {
-            filter_index(name).ok_or_else(|| {
-                Error::invalid(format!("{key}.filter"), format!("no filter named `{name}` in this experiment"))
-            })
-        };
+        let index = |name: &str| filter_index(name).ok_or_else(|| Error::no_filter(key, name));
         Ok(match f {
             CovChoiceFile::Nominal => CovChoice::Nominal,
             CovChoiceFile::Given { blocks } => CovChoice::Given(given_covariances(key, plant, nominal, blocks)?),

@@ -22,6 +22,7 @@
 use std::borrow::Cow;
 
 use crate::numerics::linalg::{Mat, Vector, block_diag};
+use crate::error::{Error, Result};
 
 /// How the measurement depends on a random mode (SPEC §0, §3).
 #[derive(Clone, Debug)]
@@ -246,6 +247,14 @@ impl Plant {
     /// Names of the covariance blocks: "x0" first, then the noise blocks of w.
     pub fn block_names(&self) -> Vec<&str> {
         std::iter::once("x0").chain(self.noise_blocks.iter().map(|(n, _)| n.as_str())).collect()
+    }
+    /// The index of covariance block `name` in [`Self::block_names`]; the error names `key`.
+    pub fn block_index(&self, key: &str, name: &str) -> Result<usize> {
+        let names = self.block_names();
+        names
+            .iter()
+            .position(|n| *n == name)
+            .ok_or_else(|| Error::invalid(key, format!("unknown covariance block (known: {})", names.join(", "))))
     }
 }
 

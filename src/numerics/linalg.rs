@@ -100,6 +100,27 @@ pub fn psd_pinv(s: &Mat) -> Mat {
     out
 }
 
+/// E_ij: the r×c matrix with a one at (i, j), zeros elsewhere.
+pub fn unit(r: usize, c: usize, i: usize, j: usize) -> Mat {
+    let mut e = Mat::zeros(r, c);
+    e[(i, j)] = 1.0;
+    e
+}
+
+/// E_ij + E_ji for i ≠ j and E_ii on the diagonal: the n×n symmetric matrix with ones at (i, j) and
+/// (j, i), the coefficient of the scalar variable X_ij = X_ji in a symmetric matrix variable X.
+pub fn sym_unit(n: usize, i: usize, j: usize) -> Mat {
+    let mut e = unit(n, n, i, j);
+    e[(j, i)] = 1.0;
+    e
+}
+
+/// Σ_i w_i X_i for r×c matrices X_i, summed in the order given, starting from zero: a stationary
+/// average Σ_s π_s X_s, or the mixing Σ_j Π_ji X_j of per-mode moments by a Markov chain.
+pub fn weighted_sum<X: std::borrow::Borrow<Mat>>(r: usize, c: usize, terms: impl IntoIterator<Item = (f64, X)>) -> Mat {
+    terms.into_iter().fold(Mat::zeros(r, c), |acc, (w, x)| acc + w * x.borrow())
+}
+
 /// Block-diagonal matrix of the given square blocks.
 pub fn block_diag(blocks: &[&Mat]) -> Mat {
     let n: usize = blocks.iter().map(|b| b.nrows()).sum();

@@ -3,4 +3,5 @@
 
 pub mod linalg;
 pub mod linop;
+pub mod riccati;
 pub mod solve;

@@ -2,6 +2,7 @@
 //! recursion, the modal (block-diagonal) fast path, and how many digits each result keeps.
 
 use super::*;
+use crate::numerics::linalg::weighted_sum;
 
 /// What drives the recursion besides x0: white noise (covariance and optional mean per step) or a
 /// joint input J with mean and raw second moment over the whole horizon.
@@ -143,11 +144,10 @@ pub(super) fn propagate(
         // Mix by the chain: moments of θ[k+1] = i collect Π_ji times those of θ[k] = j.
         for i in 0..q {
             m[i] = (0..q).fold(Vector::zeros(nxi), |acc, j| acc + transition[(j, i)] * &next[j].0);
-            y[i] = symmetrize(&(0..q).fold(Mat::zeros(nxi, nxi), |acc, j| acc + transition[(j, i)] * &next[j].1));
+            y[i] = symmetrize(&weighted_sum(nxi, nxi, (0..q).map(|j| (transition[(j, i)], &next[j].1))));
             z[i] = next[0].2.as_ref().map(|z0| {
-                (0..q).fold(Mat::zeros(z0.nrows(), z0.ncols()), |acc, j| {
-                    acc + transition[(j, i)] * next[j].2.as_ref().expect("every mode carries Z")
-                })
+                let zj = |j: usize| next[j].2.as_ref().expect("every mode carries Z");
+                weighted_sum(z0.nrows(), z0.ncols(), (0..q).map(|j| (transition[(j, i)], zj(j))))
             });
         }
     }

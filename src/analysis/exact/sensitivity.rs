@@ -2,6 +2,7 @@
 //! (27)), the second-moment operator, and the worst case over an uncertainty set (SPEC §2).
 
 use super::*;
+use crate::numerics::linalg::weighted_sum;
 
 /// Λ = E[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w[0..N]) to col(e[k], k counted), the
 /// known input and x0's mean set aside (seed 003 §2, SPEC §5: "Λ for multiplicative noise is exact
@@ -25,10 +26,8 @@ pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> 
     let p = plant.mode_probabilities()[0].clone();
     let augs: Vec<Vec<Augmented>> = (0..steps).map(|k| modal(plant, real, k)).collect();
     let mean = |k: usize, pick: &dyn Fn(&Augmented) -> &Mat| {
-        augs[k]
-            .iter()
-            .zip(&p)
-            .fold(Mat::zeros(pick(&augs[k][0]).nrows(), pick(&augs[k][0]).ncols()), |acc, (a, pj)| acc + *pj * pick(a))
+        let (r, c) = pick(&augs[k][0]).shape();
+        weighted_sum(r, c, augs[k].iter().zip(&p).map(|(a, pj)| (*pj, pick(a))))
     };
     let nxi = augs[0][0].f.nrows();
     // r[t] = R_t for t = 0..=N+1 (R_{N+1} = 0).
@@ -115,7 +114,7 @@ pub(super) fn adjoint_gradient(plant: &Plant, system: &dyn Fn(usize) -> Vec<Augm
                 l += a.h.transpose() * &a.h;
             }
             if let Some(next) = &lambda {
-                let ahead = (0..q).fold(Mat::zeros(nxi, nxi), |acc, i| acc + transition[(j, i)] * &next[i]);
+                let ahead = weighted_sum(nxi, nxi, (0..q).map(|i| (transition[(j, i)], &next[i])));
                 g += a.e.transpose() * &ahead * &a.e;
                 l += a.f.transpose() * &ahead * &a.f;
             }

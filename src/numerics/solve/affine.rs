@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::conic::Conic;
-use crate::numerics::linalg::Mat;
+use crate::numerics::linalg::{Mat, sym_unit, unit};
 
 /// Hands out consecutive variable indices.
 #[derive(Default)]
@@ -22,10 +22,7 @@ impl Vars {
         let mut m = AffMat::zeros(d, d);
         for j in 0..d {
             for i in 0..=j {
-                let mut e = Mat::zeros(d, d);
-                e[(i, j)] = 1.0;
-                e[(j, i)] = 1.0;
-                m.terms.insert(self.scalar(), e);
+                m.terms.insert(self.scalar(), sym_unit(d, i, j));
             }
         }
         m
@@ -38,9 +35,7 @@ impl Vars {
                 if lower_only && i < j {
                     continue;
                 }
-                let mut e = Mat::zeros(r, c);
-                e[(i, j)] = 1.0;
-                m.terms.insert(self.scalar(), e);
+                m.terms.insert(self.scalar(), unit(r, c, i, j));
             }
         }
         m

@@ -1,6 +1,6 @@
-//! Maximizing a concave function on an interval: the exact line search of seed 000 Algorithm 1
-//! step 4, as a root of the derivative (the envelope theorem gives the derivative of the dual
-//! functional I for the price of one gradient).
+//! Searches on an interval: the exact line search of seed 000 Algorithm 1 step 4, as a root of
+//! the derivative (the envelope theorem gives the derivative of the dual functional I for the
+//! price of one gradient), and bisection on a monotone predicate.
 
 /// argmax over τ ∈ [0, 1] of a concave φ, given φ'(τ) (non-increasing). Regula falsi with the
 /// Illinois modification on φ', which keeps a bracket and converges superlinearly; stops when the
@@ -43,4 +43,24 @@ pub fn maximize_concave_01(dphi: impl Fn(f64) -> f64, tol: f64) -> f64 {
         }
     }
     if fa.abs() < fb.abs() { a } else { b }
+}
+
+/// Bisection for the threshold t* of a monotone predicate on [lo, hi]: `below(t)` holds for t < t*
+/// and fails above it. Halves the bracket at its midpoint 0.5 (lo + hi) until `narrow(lo, hi)`
+/// holds or `max_halvings` halvings are done, and returns the bracket.
+pub fn bisect(
+    mut lo: f64,
+    mut hi: f64,
+    mut below: impl FnMut(f64) -> bool,
+    narrow: impl Fn(f64, f64) -> bool,
+    max_halvings: usize,
+) -> (f64, f64) {
+    for _ in 0..max_halvings {
+        if narrow(lo, hi) {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if below(mid) { lo = mid } else { hi = mid }
+    }
+    (lo, hi)
 }

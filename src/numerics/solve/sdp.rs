@@ -3,7 +3,7 @@
 //! intersected with {S ⪰ 0}). Variables are the upper-triangle entries s_ij (i ≤ j).
 
 use super::conic::Conic;
-use crate::numerics::linalg::{Mat, symmetrize};
+use crate::numerics::linalg::{Mat, sym_unit, symmetrize};
 
 /// Constraints on a symmetric n×n matrix S; every one that is `Some` applies.
 #[derive(Clone, Debug, Default)]
@@ -36,14 +36,7 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
     let gs = symmetrize(g);
     let cost: Vec<f64> = idx.iter().map(|&(i, j)| if i == j { -gs[(i, i)] } else { -2.0 * gs[(i, j)] }).collect();
     // The symmetric matrix of variable t, for the matrix-valued constraints.
-    let unit = |t: usize| {
-        let (i, j) = idx[t];
-        let mut e = Mat::zeros(n, n);
-        e[(i, j)] = 1.0;
-        e[(j, i)] = 1.0;
-        e
-    };
-    let units: Vec<(usize, Mat)> = (0..idx.len()).map(|t| (t, unit(t))).collect();
+    let units: Vec<(usize, Mat)> = idx.iter().enumerate().map(|(t, &(i, j))| (t, sym_unit(n, i, j))).collect();
     let negated: Vec<(usize, Mat)> = units.iter().map(|(t, e)| (*t, -e)).collect();
     let mut p = Conic::default();
     if let Some((lo, hi)) = &cons.bounds {
