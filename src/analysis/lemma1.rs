@@ -38,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::filter::realization::Realization;
 use crate::model::plant::{Measurement, Plant};
 use crate::numerics::linalg::{Mat, symmetrize};
-use crate::numerics::solve::line::maximize_concave_01;
+use crate::numerics::solve::line::{bisect, maximize_concave_01};
 
 /// The q-free part of one step of (2.7)–(2.10): the means F̄, Ē and, with R̃1(k+1),
 /// N1 = E[GᵀG + Eᵀ R̃1 E] and B1 = E[GᵀH + Eᵀ R̃1 F].
@@ -168,15 +168,14 @@ impl Lemma1 {
 
     fn bisect_q_max(&self) -> f64 {
         let tr = self.trace();
-        let (mut lo, mut hi) = (0.5 / tr, 2.0 * self.lw as f64 / tr);
-        for _ in 0..400 {
-            if hi - lo <= 4.0 * f64::EPSILON * hi {
-                break;
-            }
-            let mid = 0.5 * (lo + hi);
-            if self.at(mid).is_some() { lo = mid } else { hi = mid }
-        }
-        lo
+        bisect(
+            0.5 / tr,
+            2.0 * self.lw as f64 / tr,
+            |q| self.at(q).is_some(),
+            |lo, hi| hi - lo <= 4.0 * f64::EPSILON * hi,
+            400,
+        )
+        .0
     }
 
     /// |||F|||_a (seed 003 (2.6)) with the q of the worst covariance, as

@@ -21,8 +21,8 @@
 
 use std::borrow::Cow;
 
-use crate::numerics::linalg::{Mat, Vector, block_diag};
 use crate::error::{Error, Result};
+use crate::numerics::linalg::{Mat, Vector, block_diag};
 
 /// How the measurement depends on a random mode (SPEC §0, §3).
 #[derive(Clone, Debug)]
