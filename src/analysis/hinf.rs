@@ -142,9 +142,9 @@ pub fn norm(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -
 pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, u32, f64)> {
     let (n, nw, nz, nn) = (plant.nx(), plant.nw(), plant.nz(), plant.horizon);
     for (t, g) in real.gains.iter().map(|g| &g[0]).enumerate() {
-        let predictor = (&g.af - (&plant.a - &g.bf * &*plant.c_at(t))).amax() < 1e-12
+        let predictor = (&g.af - (plant.a_at(t) - &g.bf * &*plant.c_at(t))).amax() < 1e-12
             && g.df.amax() == 0.0
-            && (&g.cf - &plant.cz).amax() == 0.0
+            && (&g.cf - plant.cz_at(t)).amax() == 0.0
             && real.ns() == n;
         if !predictor {
             return Err(Error::invalid(
@@ -164,13 +164,13 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     let d = n + nw + nz;
     for t in 0..nn {
         let th = &real.step(t).bf;
-        let ac = &plant.a - th * &*plant.c_at(t);
-        let bc = &plant.b - th * &*plant.d_at(t);
+        let ac = plant.a_at(t) - th * &*plant.c_at(t);
+        let bc = plant.b_at(t) - th * &*plant.d_at(t);
         // −(LMI) ⪰ 0: its constant part and the coefficient of every variable.
         let mut c = Mat::zeros(d, d);
         c.view_mut((n, n), (nw, nw)).copy_from(&g_inv);
-        c.view_mut((0, n + nw), (n, nz)).copy_from(&(-plant.cz.transpose()));
-        c.view_mut((n + nw, 0), (nz, n)).copy_from(&(-&plant.cz));
+        c.view_mut((0, n + nw), (n, nz)).copy_from(&(-plant.cz_at(t).transpose()));
+        c.view_mut((n + nw, 0), (nz, n)).copy_from(&(-plant.cz_at(t)));
         if t == 0 {
             c.view_mut((0, 0), (n, n)).copy_from(&r_inv);
         }

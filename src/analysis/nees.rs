@@ -22,8 +22,8 @@ use crate::numerics::linalg::{Mat, PSD_TOL};
 /// The plant and filter seen through the output uᵀz (one row).
 fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
     let mut p = plant.clone();
-    p.cz = u * &plant.cz;
-    p.dz = u * &plant.dz;
+    p.cz = plant.cz.map(|m| u * m);
+    p.dz = plant.dz.map(|m| u * m);
     let mut r = real.clone();
     for g in r.gains.iter_mut().flatten() {
         g.cf = u * &g.cf;

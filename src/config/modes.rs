@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::model::plant::{Modes, Plant};
 use crate::numerics::linalg::{Mat, from_rows};
 
-/// Validates a Markov chain and its modes: Π square with one row per mode, non-negative, rows
+/// Validates a Markov chain and its modes (on a time-invariant plant: its matrices at step 0): Π square with one row per mode, non-negative, rows
 /// summing to 1; p(0) likewise (default: the stationary distribution, which must then exist).
 pub(super) fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<Modes> {
     let q = mf.mode.len();
@@ -50,10 +50,10 @@ pub(super) fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<Modes> {
     };
     for m in &mf.mode {
         let key = |x: &str| format!("modes.{}.{x}", m.name);
-        modes.a.push(pick(&key("A"), &m.A, &plant.a, (n, n))?);
-        modes.b.push(pick(&key("B"), &m.B, &plant.b, (n, nw))?);
-        modes.c.push(pick(&key("C"), &m.C, &plant.c, (ny, n))?);
-        modes.d.push(pick(&key("D"), &m.D, &plant.d, (ny, nw))?);
+        modes.a.push(pick(&key("A"), &m.A, plant.a_at(0), (n, n))?);
+        modes.b.push(pick(&key("B"), &m.B, plant.b_at(0), (n, nw))?);
+        modes.c.push(pick(&key("C"), &m.C, plant.c.at(0), (ny, n))?);
+        modes.d.push(pick(&key("D"), &m.D, plant.d.at(0), (ny, nw))?);
     }
     modes.initial = match &mf.initial {
         Some(p0) => {

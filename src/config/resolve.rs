@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::model::choice::CovChoice;
 use crate::model::disturbance::{Disturbance, DisturbanceChoice};
 use crate::model::kind::Strict;
-use crate::model::plant::{Covariances, Measurement, Plant};
+use crate::model::plant::{Covariances, Measurement, Plant, Steps};
 use crate::model::uncertainty::{CovSet, SetShape};
 use crate::numerics::linalg::{Mat, Vector, check_psd, from_rows};
 
@@ -62,17 +62,22 @@ pub(super) fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> R
     let rows = |m: &Mat| -> Rows { (0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect() };
     raw.plant = Some(PlantFile {
         horizon: plant.horizon,
-        A: rows(&plant.a),
-        B: rows(&plant.b),
-        C: rows(&plant.c),
-        D: rows(&plant.d),
-        Cz: Some(rows(&plant.cz)),
-        Dz: Some(rows(&plant.dz)),
+        A: rows(plant.a_at(0)),
+        B: rows(plant.b_at(0)),
+        C: rows(plant.c.at(0)),
+        D: rows(plant.d.at(0)),
+        Cz: Some(rows(plant.cz_at(0))),
+        Dz: Some(rows(plant.dz_at(0))),
         x0_mean: None,
         noise_blocks: plant.noise_blocks.iter().map(|(n, _)| n.clone()).collect(),
         first_measurement: 0,
         sum_from: 0,
         C_steps: None,
+        A_steps: None,
+        B_steps: None,
+        D_steps: None,
+        Cz_steps: None,
+        Dz_steps: None,
         known_input: None,
         arrival: None,
     });
@@ -318,32 +323,33 @@ fn covariance_blocks(
     Ok((blocks, dims, disturbances))
 }
 
-/// The plant (SPEC §0): its matrices, the time-varying C, dropouts (`plant.arrival`) or Markov
-/// modes (seed 001), which exclude each other.
+/// The plant (SPEC §0): its matrices, each constant or given per step (seed 003 (3.1)), dropouts
+/// (`plant.arrival`) or Markov modes (seed 001), which exclude each other.
 fn plant(p: &PlantFile, m: Matrices, dims: Vec<(String, usize)>, modes: Option<&ModesFile>) -> Result<Plant> {
-    let (n, ny) = (m.a.nrows(), m.c.nrows());
     let Matrices { a, b, c, d, cz, dz, x0_mean, known_input } = m;
+    let per_step = [
+        ("A", &p.A_steps, a.shape()),
+        ("B", &p.B_steps, b.shape()),
+        ("C", &p.C_steps, c.shape()),
+        ("D", &p.D_steps, d.shape()),
+        ("Cz", &p.Cz_steps, cz.shape()),
+        ("Dz", &p.Dz_steps, dz.shape()),
+    ]
+    .map(|(name, list, shape)| steps(p.horizon, name, list, shape));
     let mut plant = Plant::new(p.horizon, a, b, c, d, cz, dz, x0_mean, p.first_measurement, known_input, dims);
     plant.sum_from = p.sum_from;
-    if let Some(steps) = &p.C_steps {
-        if steps.len() != p.horizon + 1 {
-            return Err(Error::invalid(
-                "plant.C_steps",
-                format!("expected one matrix per step k = 0..N ({}), found {}", p.horizon + 1, steps.len()),
-            ));
+    let [a, b, c, d, cz, dz] = per_step;
+    for (field, given) in [&mut plant.a, &mut plant.b, &mut plant.c, &mut plant.d, &mut plant.cz, &mut plant.dz]
+        .into_iter()
+        .zip([a?, b?, c?, d?, cz?, dz?])
+    {
+        if let Some(s) = given {
+            *field = s;
         }
-        plant.c_steps = steps
-            .iter()
-            .enumerate()
-            .map(|(k, r)| from_rows(&format!("plant.C_steps[{k}]"), r, Some((ny, n))))
-            .collect::<Result<_>>()?;
     }
     if let Some(pa) = p.arrival {
         if !(pa > 0.0 && pa <= 1.0) {
             return Err(Error::invalid("plant.arrival", format!("a probability in (0, 1] is needed, got {pa}")));
-        }
-        if !p.C_steps.as_ref().is_none_or(Vec::is_empty) {
-            return Err(Error::invalid("plant.arrival", "dropouts with a time-varying C (C_steps) are not supported"));
         }
         plant.set_arrival(pa);
     }
@@ -351,12 +357,33 @@ fn plant(p: &PlantFile, m: Matrices, dims: Vec<(String, usize)>, modes: Option<&
         if plant.arrival().is_some() {
             return Err(Error::invalid("modes", "a plant has either dropouts (plant.arrival) or [modes], not both"));
         }
-        if !plant.c_steps.is_empty() {
-            return Err(Error::invalid("modes", "Markov modes with a time-varying C (C_steps) are not supported"));
+        if plant.time_varying() {
+            return Err(Error::invalid(
+                "modes",
+                "Markov modes with a time-varying plant (plant.*_steps) are not supported: each mode's matrices are constant",
+            ));
         }
         plant.measurement = Measurement::Markov(resolve_modes(mf, &plant)?);
     }
     Ok(plant)
+}
+
+/// `plant.NAME_steps`: one matrix of `shape` per step k = 0..N, replacing NAME.
+fn steps(horizon: usize, name: &str, list: &Option<Vec<Rows>>, shape: (usize, usize)) -> Result<Option<Steps>> {
+    let Some(list) = list else { return Ok(None) };
+    let key = format!("plant.{name}_steps");
+    if list.len() != horizon + 1 {
+        return Err(Error::invalid(
+            &key,
+            format!("expected one matrix per step k = 0..N ({}), found {}", horizon + 1, list.len()),
+        ));
+    }
+    let ms = list
+        .iter()
+        .enumerate()
+        .map(|(k, r)| from_rows(&format!("{key}[{k}]"), r, Some(shape)))
+        .collect::<Result<_>>()?;
+    Ok(Some(Steps::per_step(ms)))
 }
 
 /// Each `[sets.BLOCK]`: the uncertainty set of that covariance block (SPEC §2).

@@ -71,6 +71,12 @@ pub(super) struct PlantFile {
     #[serde(default)]
     pub(super) sum_from: usize,
     pub(super) C_steps: Option<Vec<Rows>>,
+    /// Per-step lists k = 0..N replacing A, B, D, Cz, Dz (seed 003 (3.1): a time-varying plant).
+    pub(super) A_steps: Option<Vec<Rows>>,
+    pub(super) B_steps: Option<Vec<Rows>>,
+    pub(super) D_steps: Option<Vec<Rows>>,
+    pub(super) Cz_steps: Option<Vec<Rows>>,
+    pub(super) Dz_steps: Option<Vec<Rows>>,
     pub(super) known_input: Option<Strict<KnownInputFile>>,
     /// Probability p that a measurement arrives (seed 003: y = λ C x + D w, λ ~ Bernoulli(p)).
     pub(super) arrival: Option<f64>,

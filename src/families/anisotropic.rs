@@ -136,8 +136,8 @@ fn check_setting(input: &DesignInput) -> Result<()> {
         Some("the anisotropic filter (4.31) is a predictor: set pattern = \"prediction\"")
     } else if input.nominal.x0().amax() != 0.0 {
         Some("the anisotropic theory takes x(0) known (seed 003 (4.7)): set nominal.x0 to zero")
-    } else if p.sum_from != 0 || p.first_measurement != 0 || !p.c_steps.is_empty() {
-        Some("the anisotropic design needs sum_from = 0, first_measurement = 0 and a constant C")
+    } else if p.sum_from != 0 || p.first_measurement != 0 || p.time_varying() {
+        Some("the anisotropic design (§4.2.1) needs sum_from = 0, first_measurement = 0 and constant matrices (no plant.*_steps)")
     } else if p.switches() && p.arrival().is_none() {
         Some("the anisotropic design covers measurement dropouts (plant.arrival), not general Markov modes")
     } else {
@@ -153,7 +153,7 @@ fn check_setting(input: &DesignInput) -> Result<()> {
 pub fn realization(plant: &Plant, syn: &Synthesis) -> Realization {
     let p = plant.arrival_mean();
     let steps = (0..plant.steps())
-        .map(|k| Gains::predicting(&syn.w[k] - p * &syn.h[k] * &plant.c, syn.h[k].clone(), &plant.cz))
+        .map(|k| Gains::predicting(&syn.w[k] - p * &syn.h[k] * plant.c.at(k), syn.h[k].clone(), plant.cz_at(k)))
         .collect();
     Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
@@ -238,11 +238,11 @@ pub const P2_FLOOR: f64 = 1e-6;
 /// unchanged, so γ is too).
 fn synthesize_balanced(plant: &Plant, level: Level, tuning: &Tuning) -> std::result::Result<Synthesis, Failure> {
     let n = plant.nx();
-    let bb = &plant.b * plant.b.transpose();
+    let bb = plant.b_at(0) * plant.b_at(0).transpose();
     let mut sigma = Mat::zeros(n, n);
     let mut avg = vec![0.0; n];
     for _ in 0..plant.steps() {
-        sigma = &plant.a * &sigma * plant.a.transpose() + &bb;
+        sigma = plant.a_at(0) * &sigma * plant.a_at(0).transpose() + &bb;
         for (i, v) in avg.iter_mut().enumerate() {
             *v += sigma[(i, i)] / plant.steps() as f64;
         }
@@ -251,10 +251,10 @@ fn synthesize_balanced(plant: &Plant, level: Level, tuning: &Tuning) -> std::res
     let tm = Mat::from_diagonal(&crate::numerics::linalg::Vector::from_vec(t.clone()));
     let ti = Mat::from_diagonal(&crate::numerics::linalg::Vector::from_iterator(n, t.iter().map(|v| 1.0 / v)));
     let mut scaled = plant.clone();
-    scaled.a = &tm * &plant.a * &ti;
-    scaled.b = &tm * &plant.b;
-    scaled.c = &plant.c * &ti;
-    scaled.cz = &plant.cz * &ti;
+    scaled.a = plant.a.map(|a| &tm * a * &ti);
+    scaled.b = plant.b.map(|b| &tm * b);
+    scaled.c = plant.c.map(|c| c * &ti);
+    scaled.cz = plant.cz.map(|cz| cz * &ti);
     if let Some(p) = plant.arrival() {
         scaled.set_arrival(p);
     }
@@ -281,9 +281,10 @@ pub fn exact_norm_sq(plant: &Plant, real: &Realization, level: Level) -> Result<
 
 /// [`synthesize`] with the given clarabel settings.
 pub fn synthesize_tuned(plant: &Plant, level: Level, tuning: &Tuning) -> std::result::Result<Synthesis, Failure> {
+    debug_assert!(!plant.time_varying(), "§4.2.1 is written for constant matrices: check_setting refuses the rest");
     let (nx, mw, pz, ny) = (plant.nx(), plant.nw(), plant.nz(), plant.ny());
     let (p, v) = (plant.arrival_mean(), plant.dropout_variance());
-    let (a, b, cy, dy) = (&plant.a, &plant.b, &plant.c, &plant.d);
+    let (a, b, cy, dy) = (plant.a_at(0), plant.b_at(0), plant.c.at(0), plant.d.at(0));
     let steps = plant.steps();
     let nn = plant.horizon;
     let mut vars = Vars::default();
@@ -307,10 +308,10 @@ pub fn synthesize_tuned(plant: &Plant, level: Level, tuning: &Tuning) -> std::re
     let eta_i = |d: usize| AffMat::scalar_times(eta, Mat::identity(d, d));
     let c_err = AffMat::constant({
         let mut c = Mat::zeros(pz, 2 * nx);
-        c.view_mut((0, nx), (pz, nx)).copy_from(&plant.cz);
+        c.view_mut((0, nx), (pz, nx)).copy_from(plant.cz_at(0));
         c
     });
-    let d_err = AffMat::constant(plant.dz.clone());
+    let d_err = AffMat::constant(plant.dz_at(0).clone());
     let ident = |d: usize| AffMat::constant(Mat::identity(d, d));
 
     let mut conic = Conic::default();
@@ -318,8 +319,8 @@ pub fn synthesize_tuned(plant: &Plant, level: Level, tuning: &Tuning) -> std::re
     // (P2(k) ⪰ CzᵀCz from the C row of every LMI); otherwise P2(k) ⪰ εI with
     // ε = P2_FLOOR · λmax(CzᵀCz) is added: a restriction of the feasible set, so the bound still
     // holds, and small enough to cost nothing measurable in γ.
-    let floor = (plant.cz.rank(1e-12) < nx).then(|| {
-        let czz = plant.cz.transpose() * &plant.cz;
+    let floor = (plant.cz_at(0).rank(1e-12) < nx).then(|| {
+        let czz = plant.cz_at(0).transpose() * plant.cz_at(0);
         P2_FLOOR * czz.symmetric_eigenvalues().max().max(f64::MIN_POSITIVE)
     });
     for k in 0..steps {

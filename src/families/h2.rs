@@ -27,7 +27,6 @@ pub struct Params {}
 /// P2[t] for t = 0..N.
 pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
     let w = weights.w();
-    let gb = &plant.b * &w * plant.b.transpose();
     let mut p = weights.x0().clone();
     let mut out = Vec::with_capacity(plant.steps());
     for t in 0..plant.steps() {
@@ -36,8 +35,9 @@ pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
         // Not riccati::innovation: seed 002's gain has no B G Dᵀ term (the split (5.5) makes it
         // zero) and S is used as computed, unsymmetrized, so P2 keeps its figures.
         let s = c * &p * c.transpose() + d * &w * d.transpose();
-        let k = &plant.a * &p * c.transpose() * psd_pinv(&s);
-        p = symmetrize(&riccati::propagate(&plant.a, &p, &gb, &k, &s));
+        let k = plant.a_at(t) * &p * c.transpose() * psd_pinv(&s);
+        let gb = plant.b_at(t) * &w * plant.b_at(t).transpose();
+        p = symmetrize(&riccati::propagate(plant.a_at(t), &p, &gb, &k, &s));
     }
     out
 }
@@ -52,10 +52,13 @@ impl super::Family for H2 {
     fn design(input: &DesignInput, _p: &Params) -> Result<Design> {
         check_setting(input, &format!("filters.{}", input.name), &None)?;
         let p2 = riccati(input.plant, &input.nominal);
-        let weights: Vec<Mat> = p2.iter().map(|p| psd_pinv(&(&input.plant.cz * p * input.plant.cz.transpose()))).collect();
+        let cz = |t: usize| input.plant.cz_at(t);
+        let weights: Vec<Mat> =
+            p2.iter().enumerate().map(|(t, p)| psd_pinv(&(cz(t) * p * cz(t).transpose()))).collect();
         let level = p2
             .iter()
-            .map(|p| symmetrize(&(&input.plant.cz * p * input.plant.cz.transpose())).symmetric_eigenvalues().max())
+            .enumerate()
+            .map(|(t, p)| symmetrize(&(cz(t) * p * cz(t).transpose())).symmetric_eigenvalues().max())
             .fold(0.0, f64::max);
         let mut design = design_at(input.plant, input.nominal.clone(), Pattern::Prediction);
         design.figures.h2_level = Some(level);

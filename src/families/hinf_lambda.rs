@@ -71,7 +71,7 @@ pub fn recursion(
     lambda: f64,
 ) -> std::result::Result<Vec<Mat>, Infeasible> {
     let w = weights.w();
-    let (gb, n) = (&plant.b * &w * plant.b.transpose(), plant.nx());
+    let n = plant.nx();
     let mut p = weights.x0().clone();
     let mut gains = Vec::with_capacity(plant.steps());
     for t in 0..plant.steps() {
@@ -80,24 +80,24 @@ pub fn recursion(
             let sh = crate::numerics::linalg::psd_factor(s);
             (symmetrize(&(sh.transpose() * &p * &sh)).symmetric_eigenvalues().max(), true)
         } else {
-            (symmetrize(&(&plant.cz * &p * plant.cz.transpose())).symmetric_eigenvalues().max(), false)
+            (symmetrize(&(plant.cz_at(t) * &p * plant.cz_at(t).transpose())).symmetric_eigenvalues().max(), false)
         };
         if value >= lambda {
             return Err(Infeasible { step: t, terminal, value });
         }
         let (c, d) = (&*plant.c_at(t), &*plant.d_at(t));
         let pinv = p.clone().try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
-        let mut m = pinv - plant.cz.transpose() * &plant.cz / lambda;
+        let mut m = pinv - plant.cz_at(t).transpose() * plant.cz_at(t) / lambda;
         let mut theta = Mat::zeros(n, plant.ny());
         if plant.measured(t) {
             let gd_inv = (d * &w * d.transpose()).try_inverse().expect("G_D checked positive definite");
             m += c.transpose() * &gd_inv * c;
             let minv = m.clone().try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
-            theta = &plant.a * &minv * c.transpose() * gd_inv;
-            p = symmetrize(&(&plant.a * minv * plant.a.transpose() + &gb));
+            theta = plant.a_at(t) * &minv * c.transpose() * gd_inv;
+            p = symmetrize(&(plant.a_at(t) * minv * plant.a_at(t).transpose() + plant.b_at(t) * &w * plant.b_at(t).transpose()));
         } else {
             let minv = m.try_inverse().ok_or(Infeasible { step: t, terminal: false, value: f64::INFINITY })?;
-            p = symmetrize(&(&plant.a * minv * plant.a.transpose() + &gb));
+            p = symmetrize(&(plant.a_at(t) * minv * plant.a_at(t).transpose() + plant.b_at(t) * &w * plant.b_at(t).transpose()));
         }
         gains.push(theta);
     }
@@ -123,7 +123,7 @@ pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> 
 /// The predictor realization of gains Θ[t]: s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
 pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
     let steps =
-        gains.iter().enumerate().map(|(t, th)| Gains::predictor(&plant.a, &plant.c_at(t), th, &plant.cz)).collect();
+        gains.iter().enumerate().map(|(t, th)| Gains::predictor(plant.a_at(t), &plant.c_at(t), th, plant.cz_at(t))).collect();
     Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
 
@@ -137,19 +137,22 @@ pub fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f
             "the H∞-λ filter is a predictor: the experiment's pattern must be \"prediction\"",
         ));
     }
-    if p.dz.amax() != 0.0 {
+    if (0..p.steps()).any(|k| p.dz_at(k).amax() != 0.0) {
         return Err(Error::invalid(key, "seed 002's plant has z = Cz x: plant.Dz must be zero"));
     }
     let w = input.nominal.w();
-    let cross = (&p.b * &w * p.d.transpose()).amax();
-    if cross > 1e-12 * w.amax().max(1.0) {
-        return Err(Error::invalid(
-            key,
-            format!("needs the noise split (5.5), B G Dᵀ = 0, but max |B G Dᵀ| = {cross:.3e}"),
-        ));
-    }
-    if min_eigenvalue(&(&p.d * &w * p.d.transpose())) <= 0.0 {
-        return Err(Error::invalid(key, "needs G_D = D G Dᵀ positive definite (5.5)"));
+    for k in 0..p.steps() {
+        let d = p.d.at(k);
+        let cross = (p.b_at(k) * &w * d.transpose()).amax();
+        if cross > 1e-12 * w.amax().max(1.0) {
+            return Err(Error::invalid(
+                key,
+                format!("needs the noise split (5.5), B G Dᵀ = 0, but max |B G Dᵀ| = {cross:.3e} at step {k}"),
+            ));
+        }
+        if min_eigenvalue(&(d * &w * d.transpose())) <= 0.0 {
+            return Err(Error::invalid(key, format!("needs G_D = D G Dᵀ positive definite (5.5), not at step {k}")));
+        }
     }
     if min_eigenvalue(input.nominal.x0()) <= 0.0 {
         return Err(Error::invalid(key, "needs R = cov x0 positive definite (P∞[0] = R)"));

@@ -71,19 +71,19 @@ pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
     for k in 0..plant.steps() {
         let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         if plant.counts(k) {
-            predicted += (&plant.cz * &pe * plant.cz.transpose() + &plant.dz * &w * plant.dz.transpose()).trace();
+            predicted += (plant.cz_at(k) * &pe * plant.cz_at(k).transpose() + plant.dz_at(k) * &w * plant.dz_at(k).transpose()).trace();
         }
         // S and H carry p inside the products (not riccati::innovation's C P Cᵀ): p² C P Cᵀ is
         // computed as ((p²C) P) Cᵀ, and the figures must stay as they were.
         let s = symmetrize(&(p * p * c * &pe * c.transpose() + v * c * &x * c.transpose() + d * &w * d.transpose()));
-        let h = (p * &plant.a * &pe * c.transpose() + &plant.b * &w * d.transpose()) * psd_pinv(&s);
-        steps.push(Gains::predicting(&plant.a - p * &h * c, h.clone(), &plant.cz));
-        let bwb = &plant.b * &w * plant.b.transpose();
-        pe = symmetrize(&riccati::propagate(&plant.a, &pe, &bwb, &h, &s));
-        let mut xn = &plant.a * &x * plant.a.transpose() + &bwb;
-        let mut mn = &plant.a * &m;
+        let h = (p * plant.a_at(k) * &pe * c.transpose() + plant.b_at(k) * &w * d.transpose()) * psd_pinv(&s);
+        steps.push(Gains::predicting(plant.a_at(k) - p * &h * c, h.clone(), plant.cz_at(k)));
+        let bwb = plant.b_at(k) * &w * plant.b_at(k).transpose();
+        pe = symmetrize(&riccati::propagate(plant.a_at(k), &pe, &bwb, &h, &s));
+        let mut xn = plant.a_at(k) * &x * plant.a_at(k).transpose() + &bwb;
+        let mut mn = plant.a_at(k) * &m;
         if let Some(r) = plant.r_at(k) {
-            let am = &plant.a * &m;
+            let am = plant.a_at(k) * &m;
             xn += &am * r.transpose() + r * am.transpose() + r * r.transpose();
             mn += r;
         }

@@ -18,7 +18,7 @@ use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
 use crate::numerics::riccati;
-use crate::model::plant::{Covariances, Plant};
+use crate::model::plant::{Steps, Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
 use crate::model::plant::Pattern;
@@ -51,10 +51,10 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
     let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
     let avg = |ms: &[Mat]| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms));
     let mut out = plant.clone();
-    out.a = avg(&m.a);
-    out.b = avg(&m.b);
-    out.c = avg(&m.c);
-    out.d = avg(&m.d);
+    out.a = Steps::constant(avg(&m.a));
+    out.b = Steps::constant(avg(&m.b));
+    out.c = Steps::constant(avg(&m.c));
+    out.d = Steps::constant(avg(&m.d));
     out.measurement = crate::model::plant::Measurement::Always;
     Ok(out)
 }
@@ -105,21 +105,21 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
 pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization {
     let w = cov.w();
     let mut pbar = cov.x0().clone();
-    let bwb = &plant.b * &w * plant.b.transpose();
     let mut steps = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
+        let bwb = plant.b_at(k) * &w * plant.b_at(k).transpose();
         let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         let wd = &w * d.transpose();
-        let inn = riccati::innovation(&plant.a, c, &pbar, &(d * &wd), &(&plant.b * &wd));
-        let predictor = Gains::predictor(&plant.a, c, &inn.k, &plant.cz);
+        let inn = riccati::innovation(plant.a_at(k), c, &pbar, &(d * &wd), &(plant.b_at(k) * &wd));
+        let predictor = Gains::predictor(plant.a_at(k), c, &inn.k, plant.cz_at(k));
         steps.push(match pattern {
             Pattern::Filtering => {
-                let lz = (&plant.cz * &pbar * c.transpose() + &plant.dz * &wd) * &inn.s_inv;
-                Gains { cf: &plant.cz - &lz * c, df: lz, ..predictor }
+                let lz = (plant.cz_at(k) * &pbar * c.transpose() + plant.dz_at(k) * &wd) * &inn.s_inv;
+                Gains { cf: plant.cz_at(k) - &lz * c, df: lz, ..predictor }
             }
             Pattern::Prediction => predictor,
         });
-        pbar = symmetrize(&riccati::propagate(&plant.a, &pbar, &bwb, &inn.k, &inn.s));
+        pbar = symmetrize(&riccati::propagate(plant.a_at(k), &pbar, &bwb, &inn.k, &inn.s));
     }
     Realization::state_estimator(plant.x0_mean.clone(), steps)
 }

@@ -64,6 +64,9 @@ impl super::Family for MarkovJump {
                 "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
             ));
         }
+        if input.plant.time_varying() {
+            return Err(Error::design(name, "the Markov-jump filter needs constant matrices (no plant.*_steps)"));
+        }
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
         };
@@ -112,7 +115,7 @@ pub fn finite(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
     for k in 0..plant.steps() {
         if plant.counts(k) {
             let pk = p.iter().fold(Mat::zeros(plant.nx(), plant.nx()), |a, x| a + x);
-            predicted += (&plant.cz * pk * plant.cz.transpose() + &plant.dz * &w * plant.dz.transpose()).trace();
+            predicted += (plant.cz_at(k) * pk * plant.cz_at(k).transpose() + plant.dz_at(k) * &w * plant.dz_at(k).transpose()).trace();
         }
         let (gains, next) = coupled_step(plant, k, &probs[k], &p, &w);
         by_mode.push((0..q).map(|s| predictor_gains(plant, k, s, &gains[s])).collect());
@@ -128,7 +131,7 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
     let mut gains = Vec::with_capacity(q);
     let mut contrib = Vec::with_capacity(q);
     for s in 0..q {
-        let (a, b, c, d) = (plant.a_of(s), plant.b_of(s), &*plant.c_of(k, s), &*plant.d_of(k, s));
+        let (a, b, c, d) = (plant.a_of(k, s), plant.b_of(k, s), &*plant.c_of(k, s), &*plant.d_of(k, s));
         let (dwd, bwd) = (prob[s] * (d * w * d.transpose()), prob[s] * (b * w * d.transpose()));
         let inn = riccati::innovation(a, c, &p[s], &dwd, &bwd);
         contrib.push(riccati::propagate(a, &p[s], &(prob[s] * (b * w * b.transpose())), &inn.k, &inn.s));
@@ -141,7 +144,7 @@ fn coupled_step(plant: &Plant, k: usize, prob: &[f64], p: &[Mat], w: &Mat) -> (V
 
 /// The gains of the predictor in mode s with gain K: Af = A_s − K C_s, Bf = K, Cf = Cz.
 fn predictor_gains(plant: &Plant, k: usize, s: usize, kg: &Mat) -> Gains {
-    Gains::predictor(plant.a_of(s), &plant.c_of(k, s), kg, &plant.cz)
+    Gains::predictor(plant.a_of(k, s), &plant.c_of(k, s), kg, plant.cz_at(k))
 }
 
 /// The mode-indexed state estimator with gains `by_mode[k][s]`.
@@ -171,7 +174,7 @@ pub fn steady(plant: &Plant, modes: &Modes, w: &Mat) -> std::result::Result<Stea
         .ok_or("the chain is not ergodic (no unique stationary distribution), so no steady-state gains exist")?;
     let q = probabilities.len();
     let k_meas = plant.horizon.max(plant.first_measurement);
-    let mut p: Vec<Mat> = (0..q).map(|s| probabilities[s] * (plant.b_of(s) * w * plant.b_of(s).transpose())).collect();
+    let mut p: Vec<Mat> = (0..q).map(|s| probabilities[s] * (plant.b_of(0, s) * w * plant.b_of(0, s).transpose())).collect();
     for it in 1..=100_000 {
         let (k, next) = coupled_step(plant, k_meas, &probabilities, &p, w);
         let scale = next.iter().map(|x| x.amax()).fold(1e-300, f64::max);
@@ -189,7 +192,7 @@ pub fn steady(plant: &Plant, modes: &Modes, w: &Mat) -> std::result::Result<Stea
 
 /// Σ_s tr(Cz P_s Czᵀ), the stationary per-step error of z (Dz terms aside).
 fn stationary_cost(plant: &Plant, p: &[Mat]) -> f64 {
-    p.iter().map(|x| (&plant.cz * x * plant.cz.transpose()).trace()).sum()
+    p.iter().map(|x| (plant.cz_at(0) * x * plant.cz_at(0).transpose()).trace()).sum()
 }
 
 /// The common-gain design.
@@ -214,7 +217,7 @@ fn fixed_point(
     let q = prob.len();
     let n = plant.nx();
     let kc = plant.horizon.max(plant.first_measurement);
-    let m: Vec<Mat> = (0..q).map(|s| plant.a_of(s) - k * &*plant.c_of(kc, s)).collect();
+    let m: Vec<Mat> = (0..q).map(|s| plant.a_of(0, s) - k * &*plant.c_of(kc, s)).collect();
     let dim = q * n * n;
     let mut t = Mat::zeros(dim, dim);
     for s in 0..q {
@@ -239,7 +242,7 @@ fn fixed_point(
             v += nalgebra::DVector::from_column_slice(q_weight.as_slice());
         } else {
             // N_kk = Σ_s Π_s,kk p_s (B_s − K D_s) W (B_s − K D_s)ᵀ
-            let bd = plant.b_of(s) - k * &*plant.d_of(kc, s);
+            let bd = plant.b_of(0, s) - k * &*plant.d_of(kc, s);
             let ns = nalgebra::DVector::from_column_slice((prob[s] * (&bd * w * bd.transpose())).as_slice());
             for kk in 0..q {
                 let mut v = rhs.rows_mut(kk * n * n, n * n);
@@ -254,7 +257,7 @@ fn fixed_point(
 
 /// J(K) and ∂J/∂K for the common gain.
 pub fn cost_and_gradient(plant: &Plant, modes: &Modes, prob: &[f64], k: &Mat, w: &Mat) -> Option<(f64, Mat)> {
-    let qz = plant.cz.transpose() * &plant.cz;
+    let qz = plant.cz_at(0).transpose() * plant.cz_at(0);
     let p = fixed_point(plant, &modes.transition, prob, k, w, false, &qz)?;
     let v = fixed_point(plant, &modes.transition, prob, k, w, true, &qz)?;
     let q = prob.len();
@@ -263,8 +266,8 @@ pub fn cost_and_gradient(plant: &Plant, modes: &Modes, prob: &[f64], k: &Mat, w:
     for s in 0..q {
         let vbar = weighted_sum(plant.nx(), plant.nx(), (0..q).map(|kk| (modes.transition[(s, kk)], &v[kk])));
         let (c, d) = (&*plant.c_of(kc, s), &*plant.d_of(kc, s));
-        let ms = plant.a_of(s) - k * c;
-        let bd = plant.b_of(s) - k * d;
+        let ms = plant.a_of(0, s) - k * c;
+        let bd = plant.b_of(0, s) - k * d;
         grad -= 2.0 * &vbar * (&ms * &p[s] * c.transpose() + prob[s] * (&bd * w * d.transpose()));
     }
     Some((stationary_cost(plant, &p), grad))

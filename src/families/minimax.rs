@@ -154,9 +154,9 @@ pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> 
             m.view_mut((row, 0), (ny, cols)).copy_from(&z);
             row += ny;
         }
-        let mut next = &plant.a * &x;
+        let mut next = plant.a_at(n) * &x;
         let mut nw_view = next.view_mut((0, wn), (nx, nw));
-        nw_view += &plant.b;
+        nw_view += plant.b_at(n);
         x = next;
     }
     let mut full = Mat::zeros(cols, cols);

@@ -43,16 +43,60 @@ pub enum Pattern {
     Prediction,
 }
 
+/// A plant matrix over the horizon: the same at every step, or one per step k = 0..N (the
+/// time-varying plant of seed 003 (3.1) and seed 002 §5). Read it at a step with [`Steps::at`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Steps(Vec<Mat>);
+
+impl Steps {
+    pub fn constant(m: Mat) -> Self {
+        Steps(vec![m])
+    }
+    /// One matrix per step k = 0..N (every one of the same shape).
+    pub fn per_step(ms: Vec<Mat>) -> Self {
+        debug_assert!(!ms.is_empty() && ms.iter().all(|m| m.shape() == ms[0].shape()));
+        Steps(ms)
+    }
+    /// The matrix of step k.
+    #[inline]
+    pub fn at(&self, k: usize) -> &Mat {
+        &self.0[if self.0.len() == 1 { 0 } else { k }]
+    }
+    /// Whether the matrix changes over the steps.
+    pub fn varies(&self) -> bool {
+        self.0.len() > 1
+    }
+    /// The matrix, when it is the same at every step (designs for time-invariant plants).
+    pub fn constant_value(&self) -> Option<&Mat> {
+        (self.0.len() == 1).then(|| &self.0[0])
+    }
+    pub fn nrows(&self) -> usize {
+        self.0[0].nrows()
+    }
+    pub fn ncols(&self) -> usize {
+        self.0[0].ncols()
+    }
+    /// The same steps with `f` applied to every matrix.
+    pub fn map(&self, f: impl Fn(&Mat) -> Mat) -> Steps {
+        Steps(self.0.iter().map(f).collect())
+    }
+    /// Every distinct matrix (one for a constant, one per step otherwise).
+    pub fn all(&self) -> &[Mat] {
+        &self.0
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct Plant {
     /// N: the horizon; steps run k = 0..=N.
     pub horizon: usize,
-    pub a: Mat,
-    pub b: Mat,
-    pub c: Mat,
-    pub d: Mat,
-    pub cz: Mat,
-    pub dz: Mat,
+    pub a: Steps,
+    pub b: Steps,
+    /// C[k] where a measurement is taken (see [`Plant::c_at`] for the steps before the first).
+    pub c: Steps,
+    pub d: Steps,
+    pub cz: Steps,
+    pub dz: Steps,
     pub x0_mean: Vector,
     /// Steps k < first_measurement have no measurement (seed 000 measures from n = 1).
     pub first_measurement: usize,
@@ -62,9 +106,6 @@ pub struct Plant {
     pub noise_blocks: Vec<(String, usize)>,
     /// The summed error J counts steps k ≥ sum_from (seed 000 sums n = 1..N; default 0).
     pub sum_from: usize,
-    /// Time-varying measurement matrices C[k], k = 0..N (regressors Φ[k] of seed 002 §5), or empty
-    /// when C is constant.
-    pub c_steps: Vec<Mat>,
     /// Whether measurements drop out or the matrices switch.
     pub measurement: Measurement,
 }
@@ -86,18 +127,17 @@ impl Plant {
     ) -> Self {
         Plant {
             horizon,
-            a,
-            b,
-            c,
-            d,
-            cz,
-            dz,
+            a: Steps::constant(a),
+            b: Steps::constant(b),
+            c: Steps::constant(c),
+            d: Steps::constant(d),
+            cz: Steps::constant(cz),
+            dz: Steps::constant(dz),
             x0_mean,
             first_measurement,
             known_input,
             noise_blocks,
             sum_from: 0,
-            c_steps: Vec::new(),
             measurement: Measurement::Always,
         }
     }
@@ -123,17 +163,45 @@ impl Plant {
     pub fn measured(&self, k: usize) -> bool {
         k >= self.first_measurement
     }
+    /// Whether any matrix of the plant changes over the steps.
+    pub fn time_varying(&self) -> bool {
+        [&self.a, &self.b, &self.c, &self.d, &self.cz, &self.dz].iter().any(|s| s.varies())
+    }
+    /// A[k].
+    #[inline]
+    pub fn a_at(&self, k: usize) -> &Mat {
+        self.a.at(k)
+    }
+    /// B[k].
+    #[inline]
+    pub fn b_at(&self, k: usize) -> &Mat {
+        self.b.at(k)
+    }
+    /// Cz[k].
+    #[inline]
+    pub fn cz_at(&self, k: usize) -> &Mat {
+        self.cz.at(k)
+    }
+    /// Dz[k].
+    #[inline]
+    pub fn dz_at(&self, k: usize) -> &Mat {
+        self.dz.at(k)
+    }
     /// C[k]: zero before the first measurement.
     pub fn c_at(&self, k: usize) -> Cow<'_, Mat> {
-        match (self.measured(k), self.c_steps.get(k)) {
-            (false, _) => Cow::Owned(Mat::zeros(self.c.nrows(), self.c.ncols())),
-            (true, Some(c)) => Cow::Borrowed(c),
-            (true, None) => Cow::Borrowed(&self.c),
+        if self.measured(k) {
+            Cow::Borrowed(self.c.at(k))
+        } else {
+            Cow::Owned(Mat::zeros(self.c.nrows(), self.c.ncols()))
         }
     }
     /// D[k]: zero before the first measurement.
     pub fn d_at(&self, k: usize) -> Cow<'_, Mat> {
-        if self.measured(k) { Cow::Borrowed(&self.d) } else { Cow::Owned(Mat::zeros(self.d.nrows(), self.d.ncols())) }
+        if self.measured(k) {
+            Cow::Borrowed(self.d.at(k))
+        } else {
+            Cow::Owned(Mat::zeros(self.d.nrows(), self.d.ncols()))
+        }
     }
     /// p, the probability that a measurement arrives, for a plant with dropouts.
     pub fn arrival(&self) -> Option<f64> {
@@ -162,10 +230,10 @@ impl Plant {
                 names: vec!["lost".into(), "arrived".into()],
                 transition: Mat::from_row_slice(2, 2, &[1.0 - p, *p, 1.0 - p, *p]),
                 initial: vec![1.0 - p, *p],
-                a: vec![self.a.clone(); 2],
-                b: vec![self.b.clone(); 2],
-                c: vec![Mat::zeros(self.c.nrows(), self.c.ncols()), self.c.clone()],
-                d: vec![self.d.clone(); 2],
+                a: vec![self.a.at(0).clone(); 2],
+                b: vec![self.b.at(0).clone(); 2],
+                c: vec![Mat::zeros(self.c.nrows(), self.c.ncols()), self.c.at(0).clone()],
+                d: vec![self.d.at(0).clone(); 2],
             })),
             Measurement::Markov(m) => Some(Cow::Borrowed(m)),
         }
@@ -198,16 +266,18 @@ impl Plant {
             Measurement::Markov(m) => m.names.len(),
         }
     }
-    pub fn a_of(&self, mode: usize) -> &Mat {
+    /// A_θ[k] (a Markov plant's modes have constant matrices).
+    pub fn a_of(&self, k: usize, mode: usize) -> &Mat {
         match &self.measurement {
             Measurement::Markov(m) => &m.a[mode],
-            _ => &self.a,
+            _ => self.a.at(k),
         }
     }
-    pub fn b_of(&self, mode: usize) -> &Mat {
+    /// B_θ[k].
+    pub fn b_of(&self, k: usize, mode: usize) -> &Mat {
         match &self.measurement {
             Measurement::Markov(m) => &m.b[mode],
-            _ => &self.b,
+            _ => self.b.at(k),
         }
     }
     /// C_θ[k]: zero before the first measurement and when a measurement is lost.

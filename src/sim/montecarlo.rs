@@ -117,8 +117,8 @@ pub struct PlantOps {
     b: Vec<usize>,
     c: Vec<usize>,
     d: Vec<usize>,
-    cz: usize,
-    dz: usize,
+    cz: Vec<usize>,
+    dz: Vec<usize>,
 }
 
 impl PlantOps {
@@ -138,23 +138,25 @@ impl PlantOps {
             })
         };
         let modes = plant.n_modes();
-        let a = (0..modes).map(|s| index(Cow::Borrowed(plant.a_of(s)))).collect();
-        let b = (0..modes).map(|s| index(Cow::Borrowed(plant.b_of(s)))).collect();
-        let (mut c, mut d) = (Vec::new(), Vec::new());
+        let (mut a, mut b, mut c, mut d, mut cz, mut dz) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for k in 0..plant.steps() {
+            cz.push(index(Cow::Borrowed(plant.cz_at(k))));
+            dz.push(index(Cow::Borrowed(plant.dz_at(k))));
             for s in 0..modes {
+                a.push(index(Cow::Borrowed(plant.a_of(k, s))));
+                b.push(index(Cow::Borrowed(plant.b_of(k, s))));
                 c.push(index(plant.c_of(k, s)));
                 d.push(index(plant.d_of(k, s)));
             }
         }
-        let (cz, dz) = (index(Cow::Borrowed(&plant.cz)), index(Cow::Borrowed(&plant.dz)));
         PlantOps { ops, modes, a, b, c, d, cz, dz }
     }
-    fn a(&self, mode: usize) -> &LinOp {
-        &self.ops[self.a[mode]]
+    fn a(&self, k: usize, mode: usize) -> &LinOp {
+        &self.ops[self.a[k * self.modes + mode]]
     }
-    fn b(&self, mode: usize) -> &LinOp {
-        &self.ops[self.b[mode]]
+    fn b(&self, k: usize, mode: usize) -> &LinOp {
+        &self.ops[self.b[k * self.modes + mode]]
     }
     fn c(&self, k: usize, mode: usize) -> &LinOp {
         &self.ops[self.c[k * self.modes + mode]]
@@ -241,8 +243,8 @@ pub fn run_trial(
         let ops = sc.ops;
         ops.c(k, theta).apply(1.0, &ws.x, 0.0, &mut ws.y);
         ops.d(k, theta).apply(1.0, &wk, 1.0, &mut ws.y);
-        ops.ops[ops.cz].apply(1.0, &ws.x, 0.0, &mut ws.z);
-        ops.ops[ops.dz].apply(1.0, &wk, 1.0, &mut ws.z);
+        ops.ops[ops.cz[k]].apply(1.0, &ws.x, 0.0, &mut ws.z);
+        ops.ops[ops.dz[k]].apply(1.0, &wk, 1.0, &mut ws.z);
         let r = p.r_at(k);
         for (f, real) in sc.filters.iter().enumerate() {
             let form = sc.form(f).map(|form| &form.steps[k][theta]);
@@ -279,8 +281,8 @@ pub fn run_trial(
             }
         }
         if k < p.horizon {
-            ops.a(theta).apply(1.0, &ws.x, 0.0, &mut ws.x_next);
-            ops.b(theta).apply(1.0, &wk, 1.0, &mut ws.x_next);
+            ops.a(k, theta).apply(1.0, &ws.x, 0.0, &mut ws.x_next);
+            ops.b(k, theta).apply(1.0, &wk, 1.0, &mut ws.x_next);
             if let Some(r) = r {
                 ws.x_next += r;
             }

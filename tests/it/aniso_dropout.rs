@@ -211,7 +211,7 @@ fn intermittent_riccati_is_its_exact_error_and_without_dropouts_is_kalman() {
     // Perturbing its gain at one step makes it worse (it is the minimum-variance filter of its form).
     let mut worse = real.clone();
     worse.gains[50][0].bf[(0, 0)] += 0.05;
-    worse.gains[50][0].af = &exp.plant.a - 0.95 * &worse.gains[50][0].bf * &exp.plant.c;
+    worse.gains[50][0].af = exp.plant.a.at(0) - 0.95 * &worse.gains[50][0].bf * exp.plant.c.at(0);
     assert!(exact::error(&exp.plant, &worse, &exp.nominal).total > exact);
     let mut plant = exp.plant.clone();
     plant.measurement = filterbench::model::plant::Measurement::Always;
@@ -227,7 +227,7 @@ fn a_failed_sdp_is_a_clear_error_with_clarabel_status() {
     // Finite-horizon LMIs are always feasible for η large enough, so a failure is numerical: here
     // a plant scaled beyond what the interior-point method can represent.
     let mut exp = short("p=0.95", 5);
-    exp.plant.b *= 1e160;
+    exp.plant.b = exp.plant.b.map(|x| x * 1e160);
     let err = anisotropic::synthesize(&exp.plant, anisotropic::Level::Anisotropy(1.0)).err().expect("fails");
     eprintln!("{err}");
     assert!(err.contains("clarabel status"), "{err}");

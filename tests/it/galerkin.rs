@@ -110,10 +110,10 @@ fn block_recursion_equals_the_dense_lyapunov_recursion() {
         if j == from { 1.0 } else { 0.0 }
     });
     let mut dense = exp.plant.clone();
-    dense.a = &perm * &exp.plant.a * perm.transpose();
-    dense.b = &perm * &exp.plant.b;
-    dense.c = &exp.plant.c * perm.transpose();
-    dense.cz = &exp.plant.cz * perm.transpose();
+    dense.a = filterbench::model::plant::Steps::constant(&perm * exp.plant.a.at(0) * perm.transpose());
+    dense.b = filterbench::model::plant::Steps::constant(&perm * exp.plant.b.at(0));
+    dense.c = filterbench::model::plant::Steps::constant(exp.plant.c.at(0) * perm.transpose());
+    dense.cz = filterbench::model::plant::Steps::constant(exp.plant.cz.at(0) * perm.transpose());
     let mut cov = exp.nominal.clone();
     cov.blocks[0] = &perm * &cov.blocks[0] * perm.transpose();
     for d in &designs {
@@ -132,7 +132,7 @@ fn sparse_plant_matrices_give_the_dense_products() {
     use filterbench::numerics::linalg::{Mat, Vector};
     use filterbench::numerics::linop::LinOp;
     let exp = small();
-    for m in [&exp.plant.a, &exp.plant.b] {
+    for m in [exp.plant.a.at(0), exp.plant.b.at(0)] {
         let op = LinOp::new(m);
         assert!(matches!(op, LinOp::Sparse(_)), "a {}×{} modal matrix is stored sparse", m.nrows(), m.ncols());
         let x = Vector::from_fn(m.ncols(), |i, _| (i as f64 * 0.37).sin());

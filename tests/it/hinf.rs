@@ -59,12 +59,12 @@ fn worst_input_attains_the_norm() {
     for k in 0..pl.horizon {
         let w = xi.rows(n + k * nw, nw).into_owned();
         let y = &*pl.c_at(k) * &x + &*pl.d_at(k) * &w;
-        let z = &pl.cz * &x;
+        let z = pl.cz.at(0) * &x;
         r.output(k, 0, &st, &y, &mut zhat);
         num += (z - &zhat).norm_squared();
         r.advance(k, 0, &st, &y, pl.r_at(k), &mut next);
         st.copy_from(&next);
-        x = &pl.a * &x + &pl.b * &w + pl.r_at(k).cloned().unwrap_or_else(|| Vector::zeros(n));
+        x = pl.a.at(0) * &x + pl.b.at(0) * &w + pl.r_at(k).cloned().unwrap_or_else(|| Vector::zeros(n));
     }
     let e = &x - &st;
     num += (e.transpose() * &s * &e)[(0, 0)];
@@ -154,11 +154,15 @@ fn operator_and_sdp_norms_agree() {
         let mut e = exp.clone();
         e.plant.horizon = 15;
         e.plant.known_input.clear();
-        e.plant.a = g(3, 3, 0.5);
+        e.plant.a = filterbench::model::plant::Steps::constant(g(3, 3, 0.5));
         let b = g(3, 3, 0.4);
-        e.plant.b.view_mut((0, 0), (3, 3)).copy_from(&b);
-        e.plant.c = g(1, 3, 1.0);
-        e.plant.cz = g(2, 3, 1.0);
+        e.plant.b = e.plant.b.map(|old| {
+            let mut new = old.clone();
+            new.view_mut((0, 0), (3, 3)).copy_from(&b);
+            new
+        });
+        e.plant.c = filterbench::model::plant::Steps::constant(g(1, 3, 1.0));
+        e.plant.cz = filterbench::model::plant::Steps::constant(g(2, 3, 1.0));
         let l = lambda_min(&e.plant, &e.nominal, &s).unwrap();
         let r = predictor(&e.plant, &recursion(&e.plant, &e.nominal, &s, 1.7 * l).unwrap());
         cases.push((e, r));
@@ -185,7 +189,7 @@ fn h2_worst_gain_per_step_is_lambda_max_of_cz_p2_czt() {
     for (t, p) in p2.iter().enumerate() {
         let pt = psi.rows(t * nz, nz);
         let a = (pt * &k * pt.transpose()).symmetric_eigenvalues().max();
-        let b = (&pl.cz * p * pl.cz.transpose()).symmetric_eigenvalues().max();
+        let b = (pl.cz.at(0) * p * pl.cz.at(0).transpose()).symmetric_eigenvalues().max();
         assert!((a - b).abs() <= 1e-9 * b, "step {t}: operator {a} vs Cz P2 Czᵀ {b}");
     }
 }

@@ -30,10 +30,11 @@ fn seed000_sums(a: &Mat, b: &Mat, c: &Mat, d: &Mat, sg: &Mat, se: &Mat, sw: &Mat
 fn matches_seed_000_equations_in_both_forms() {
     let mut exp = common::baseline(10);
     let pl = &exp.plant;
-    let b = pl.b.columns(0, 3).into_owned();
-    let d = pl.d.columns(3, 3).into_owned();
+    let b = pl.b.at(0).columns(0, 3).into_owned();
+    let d = pl.d.at(0).columns(3, 3).into_owned();
     let nom = &exp.nominal;
-    let (filt, pred) = seed000_sums(&pl.a, &b, &pl.c, &d, nom.x0(), &nom.blocks[1], &nom.blocks[2], pl.horizon);
+    let (filt, pred) =
+        seed000_sums(pl.a.at(0), &b, pl.c.at(0), &d, nom.x0(), &nom.blocks[1], &nom.blocks[2], pl.horizon);
     let ours = exact::error(pl, &kalman(pl, nom, Pattern::Filtering), nom).total;
     assert!((ours - filt).abs() <= 1e-10 * filt, "filtering: {ours} vs seed 000 recursion {filt}");
     exp.pattern = Pattern::Prediction;
@@ -56,10 +57,11 @@ fn correctly_specified_beats_misspecified() {
     // checked against seed 000's equations written out above, not against the exact recursion the
     // claim is computed with.
     let pl = &exp.plant;
-    let (b, d) = (pl.b.columns(0, 3).into_owned(), pl.d.columns(3, 3).into_owned());
+    let (b, d) = (pl.b.at(0).columns(0, 3).into_owned(), pl.d.at(0).columns(3, 3).into_owned());
     for f in &filters {
         let cov = f.design.design_covariance.as_ref().unwrap();
-        let (riccati, _) = seed000_sums(&pl.a, &b, &pl.c, &d, cov.x0(), &cov.blocks[1], &cov.blocks[2], pl.horizon);
+        let (riccati, _) =
+            seed000_sums(pl.a.at(0), &b, pl.c.at(0), &d, cov.x0(), &cov.blocks[1], &cov.blocks[2], pl.horizon);
         let claimed = f.claimed.as_ref().unwrap().total;
         assert!((claimed - riccati).abs() <= 1e-10 * riccati, "claimed {claimed} vs Σ tr P = {riccati}");
     }
@@ -85,14 +87,14 @@ fn perturbing_any_gain_increases_the_exact_error() {
                 0.05 * g
             });
             r.gains[k][0].bf += &dl;
-            r.gains[k][0].af -= &dl * &pl.c;
+            r.gains[k][0].af -= &dl * pl.c.at(0);
             if pattern == Pattern::Filtering {
                 let dz = Mat::from_fn(3, 1, |_, _| {
                     let g: f64 = StandardNormal.sample(&mut rng);
                     0.05 * g
                 });
                 r.gains[k][0].df += &dz;
-                r.gains[k][0].cf -= &dz * &pl.c;
+                r.gains[k][0].cf -= &dz * pl.c.at(0);
             }
             let j = exact::error(pl, &r, nom).total;
             assert!(j > j0, "{pattern:?}: a perturbed gain at step {k} gives {j} ≤ the Kalman error {j0}");

@@ -116,7 +116,9 @@ fn riccati_matches_eigenvalues_on_random_systems() {
             vec![("w".into(), nw)],
         );
         if seed % 5 == 1 {
-            plant.c_steps = (0..plant.steps()).map(|_| random(ny, nx, &mut g)).collect();
+            plant.c = filterbench::model::plant::Steps::per_step(
+                (0..plant.steps()).map(|_| random(ny, nx, &mut g)).collect(),
+            );
         }
         if seed % 6 == 2 {
             plant.sum_from = 2;

@@ -62,8 +62,8 @@ fn per_mode_mc(
             let wk = draw.w.column(k);
             y.gemv(1.0, &*p.c_of(k, th), &x, 0.0);
             y.gemv(1.0, &*p.d_of(k, th), &wk, 1.0);
-            z.gemv(1.0, &p.cz, &x, 0.0);
-            z.gemv(1.0, &p.dz, &wk, 1.0);
+            z.gemv(1.0, p.cz.at(0), &x, 0.0);
+            z.gemv(1.0, p.dz.at(0), &wk, 1.0);
             real.output(k, th, &s, &y, &mut zhat);
             if p.counts(k) {
                 sums[th] += (&z - &zhat).norm_squared();
@@ -72,7 +72,7 @@ fn per_mode_mc(
                 let mut sn = s.clone();
                 real.advance(k, th, &s, &y, p.r_at(k), &mut sn);
                 s = sn;
-                x = p.a_of(th) * &x + p.b_of(th) * wk;
+                x = p.a_of(k, th) * &x + p.b_of(k, th) * wk;
                 if let Some(r) = p.r_at(k) {
                     x += r;
                 }

@@ -225,7 +225,7 @@ fn examples_1_and_5_in_closed_form() {
         let (de, dw) = (k_hat.blocks[1][(0, 0)], k_hat.blocks[2][(0, 0)]);
         assert!((de - 0.5).abs() < 1e-12 && (dw - 1.0).abs() < 1e-12, "{name}: K̂ = ({de}, {dw}), the upper bounds");
         let pl = &exp.plant;
-        let (a, b, c, dd) = (pl.a[(0, 0)], pl.b[(0, 0)], pl.c[(0, 0)], pl.d[(0, 1)]);
+        let (a, b, c, dd) = (pl.a.at(0)[(0, 0)], pl.b.at(0)[(0, 0)], pl.c.at(0)[(0, 0)], pl.d.at(0)[(0, 1)]);
         let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, ru, rv, p0, pl.horizon);
         for (n, (k, _)) in closed.iter().enumerate() {
             let ours = d.realization.gains(n + 1, 0).df[(0, 0)];

@@ -24,8 +24,11 @@ use crate::common;
 fn joseph_kalman(exp: &Experiment) -> f64 {
     let pl = &exp.plant;
     let w = exp.nominal.w();
-    let (q, r) = (&pl.b * &w * pl.b.transpose(), &pl.d * &w * pl.d.transpose());
-    assert!((&pl.b * &w * pl.d.transpose()).amax() == 0.0 && pl.dz.amax() == 0.0, "test plant has B W Dᵀ = 0, Dz = 0");
+    let (q, r) = (pl.b.at(0) * &w * pl.b.at(0).transpose(), pl.d.at(0) * &w * pl.d.at(0).transpose());
+    assert!(
+        (pl.b.at(0) * &w * pl.d.at(0).transpose()).amax() == 0.0 && pl.dz.at(0).amax() == 0.0,
+        "test plant has B W Dᵀ = 0, Dz = 0"
+    );
     let n = pl.nx();
     let mut pbar = exp.nominal.x0().clone();
     let mut total = 0.0;
@@ -45,9 +48,9 @@ fn joseph_kalman(exp: &Experiment) -> f64 {
             Pattern::Prediction => &pbar,
         };
         if pl.counts(k) {
-            total += (&pl.cz * counted * pl.cz.transpose()).trace();
+            total += (pl.cz.at(0) * counted * pl.cz.at(0).transpose()).trace();
         }
-        pbar = &pl.a * &p * pl.a.transpose() + &q;
+        pbar = pl.a.at(0) * &p * pl.a.at(0).transpose() + &q;
     }
     total
 }
@@ -59,19 +62,19 @@ fn joseph_dropout_predictor(exp: &Experiment) -> f64 {
     let pl = &exp.plant;
     let p_arr = pl.arrival().expect("dropout plant");
     let w = exp.nominal.w();
-    let (q, r) = (&pl.b * &w * pl.b.transpose(), &pl.d * &w * pl.d.transpose());
+    let (q, r) = (pl.b.at(0) * &w * pl.b.at(0).transpose(), pl.d.at(0) * &w * pl.d.at(0).transpose());
     let mut p = exp.nominal.x0().clone();
     let mut total = 0.0;
     for k in 0..pl.steps() {
         if pl.counts(k) {
-            total += (&pl.cz * &p * pl.cz.transpose()).trace();
+            total += (pl.cz.at(0) * &p * pl.cz.at(0).transpose()).trace();
         }
         let c = &*pl.c_at(k);
         let s = c * &p * c.transpose() + &r;
-        let kg = &pl.a * &p * c.transpose() * s.try_inverse().expect("S ≻ 0");
-        let akc = &pl.a - &kg * c;
+        let kg = pl.a.at(0) * &p * c.transpose() * s.try_inverse().expect("S ≻ 0");
+        let akc = pl.a.at(0) - &kg * c;
         let arrived = &akc * &p * akc.transpose() + &kg * &r * kg.transpose();
-        let lost = &pl.a * &p * pl.a.transpose();
+        let lost = pl.a.at(0) * &p * pl.a.at(0).transpose();
         p = p_arr * arrived + (1.0 - p_arr) * lost + &q;
     }
     total
@@ -167,7 +170,7 @@ fn within_1e8(exact: f64, riccati: f64, what: &str) -> f64 {
 #[test]
 fn seed000_plant_with_a_1_5_matches_joseph_riccati_and_monte_carlo() {
     let mut exp = common::baseline(4000);
-    exp.plant.a = Mat::identity(3, 3) * 1.5;
+    exp.plant.a = filterbench::model::plant::Steps::constant(Mat::identity(3, 3) * 1.5);
     exp.plant.horizon = 50;
     let reference = joseph_kalman(&exp);
     let filters = pipeline::design_all(&exp).expect("designs");
@@ -189,7 +192,7 @@ fn seed000_plant_with_a_1_5_matches_joseph_riccati_and_monte_carlo() {
 fn a_10_and_a_long_horizon_stay_finite_and_exact() {
     for (rho, horizon) in [(10.0, 50), (10.0, 350), (2.0, 200)] {
         let mut exp = common::baseline(2000);
-        exp.plant.a = Mat::identity(3, 3) * rho;
+        exp.plant.a = filterbench::model::plant::Steps::constant(Mat::identity(3, 3) * rho);
         exp.plant.horizon = horizon;
         let reference = joseph_kalman(&exp);
         let filters = pipeline::design_all(&exp).expect("designs");
@@ -323,7 +326,7 @@ fn error_coordinates_agree_with_the_reference_where_it_is_accurate() {
 fn a_declared_m_that_does_not_hold_is_not_used() {
     // A filter that claims to track x but whose gains do not satisfy Af + Bf C − A = 0.
     let mut exp = common::baseline(10);
-    exp.plant.a = Mat::identity(3, 3) * 1.5;
+    exp.plant.a = filterbench::model::plant::Steps::constant(Mat::identity(3, 3) * 1.5);
     let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
     real.gains[10][0].af[(0, 0)] += 1e-3;
     let why = exact::error_form(&exp.plant, &real).expect_err("the identity is checked");
@@ -337,7 +340,7 @@ fn an_error_double_precision_cannot_resolve_is_refused_with_the_step_and_digits(
     // Off by 1e-7 of the tracking identity at one step: the true error grows with x but is 1e-14 of
     // x's second moment at N = 100, which double precision cannot difference.
     let mut exp = common::baseline(10);
-    exp.plant.a = Mat::identity(3, 3) * 1.5;
+    exp.plant.a = filterbench::model::plant::Steps::constant(Mat::identity(3, 3) * 1.5);
     exp.plant.horizon = 100;
     let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
     real.gains[1][0].af[(0, 0)] += 1e-7;

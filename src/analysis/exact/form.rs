@@ -57,10 +57,10 @@ pub fn error_form(plant: &Plant, real: &Realization) -> std::result::Result<Erro
         let mut here = Vec::with_capacity(plant.n_modes());
         for j in 0..plant.n_modes() {
             let g = real.gains(k, j);
-            let (a, b) = (plant.a_of(j), plant.b_of(j));
+            let (a, b) = (plant.a_of(k, j), plant.b_of(k, j));
             let (c, d) = (&*plant.c_of(k, j), &*plant.d_of(k, j));
-            let hx = &plant.cz - &g.df * c - &g.cf * m;
-            let h_scale = fro(&plant.cz) + fro(&g.df) * fro(c) + fro(&g.cf) * fro(m);
+            let hx = plant.cz_at(k) - &g.df * c - &g.cf * m;
+            let h_scale = fro(plant.cz_at(k)) + fro(&g.df) * fro(c) + fro(&g.cf) * fro(m);
             let mut residuals = vec![("Cz − Df C − Cf M", hx.norm(), h_scale)];
             if k < plant.horizon {
                 let t = &g.af * m + &g.bf * c - m * a;
@@ -77,7 +77,13 @@ pub fn error_form(plant: &Plant, real: &Realization) -> std::result::Result<Erro
                 }
             }
             let r_map = if plant.known_input.is_empty() { Mat::zeros(ns, 0) } else { &g.gf - m };
-            here.push(Augmented { f: g.af.clone(), e: &g.bf * d - m * b, h: -&g.cf, g: &plant.dz - &g.df * d, r_map });
+            here.push(Augmented {
+                f: g.af.clone(),
+                e: &g.bf * d - m * b,
+                h: -&g.cf,
+                g: plant.dz_at(k) - &g.df * d,
+                r_map,
+            });
         }
         steps.push(here);
     }

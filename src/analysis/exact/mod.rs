@@ -47,7 +47,7 @@ pub(crate) struct Augmented {
 pub(crate) fn augmented(plant: &Plant, real: &Realization, k: usize, mode: usize) -> Augmented {
     let (n, ns) = (plant.nx(), real.ns());
     let gk = real.gains(k, mode);
-    let (a, b) = (plant.a_of(mode), plant.b_of(mode));
+    let (a, b) = (plant.a_of(k, mode), plant.b_of(k, mode));
     let (c, d) = (&*plant.c_of(k, mode), &*plant.d_of(k, mode));
     let mut f = Mat::zeros(n + ns, n + ns);
     f.view_mut((0, 0), (n, n)).copy_from(a);
@@ -57,9 +57,9 @@ pub(crate) fn augmented(plant: &Plant, real: &Realization, k: usize, mode: usize
     e.view_mut((0, 0), (n, plant.nw())).copy_from(b);
     e.view_mut((n, 0), (ns, plant.nw())).copy_from(&(&gk.bf * d));
     let mut h = Mat::zeros(plant.nz(), n + ns);
-    h.view_mut((0, 0), (plant.nz(), n)).copy_from(&(&plant.cz - &gk.df * c));
+    h.view_mut((0, 0), (plant.nz(), n)).copy_from(&(plant.cz_at(k) - &gk.df * c));
     h.view_mut((0, n), (plant.nz(), ns)).copy_from(&(-&gk.cf));
-    let g = &plant.dz - &gk.df * d;
+    let g = plant.dz_at(k) - &gk.df * d;
     let mut r_map = Mat::zeros(n + ns, if plant.known_input.is_empty() { 0 } else { n });
     if r_map.ncols() == n {
         r_map.view_mut((0, 0), (n, n)).fill_with_identity();
@@ -161,9 +161,9 @@ pub fn mean_error(plant: &Plant, real: &Realization, w_mean: &Mat) -> f64 {
 /// As [`error`], with w[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
 pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> ExactError {
     let w = cov.w();
-    if !plant.switches() && !has_mean(plant, real, w_mean) && plant.nx() >= MODAL_MIN_STATES {
-        let bwb = &plant.b * &w * plant.b.transpose();
-        if [&plant.a, cov.x0(), &bwb].into_iter().all(two_by_two_block_diagonal) {
+    if !plant.switches() && !plant.time_varying() && !has_mean(plant, real, w_mean) && plant.nx() >= MODAL_MIN_STATES {
+        let bwb = plant.b_at(0) * &w * plant.b_at(0).transpose();
+        if [plant.a_at(0), cov.x0(), &bwb].into_iter().all(two_by_two_block_diagonal) {
             return propagate_modal(plant, real, cov.x0(), &w, &bwb);
         }
     }

@@ -198,7 +198,7 @@ pub(super) fn two_by_two_block_diagonal(m: &Mat) -> bool {
 }
 
 /// The recursion of [`propagate`] when A, cov x0 and B W Bᵀ are block diagonal in 2×2 blocks and
-/// there are no modes and no means (a modal truth, seed 004's string): the state covariance stays
+/// there are no modes, no means and no time-varying matrices (a modal truth, seed 004's string): the state covariance stays
 /// block diagonal, so only its blocks P_b, the cross covariance X = E[x sᵀ] and the filter's
 /// S = E[s sᵀ] are carried:
 ///
@@ -212,7 +212,7 @@ pub(super) fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w
     let (nx, ns) = (plant.nx(), real.ns());
     let nb = nx / 2;
     let blk = |m: &Mat, b: usize| m.view((2 * b, 2 * b), (2, 2)).into_owned();
-    let a: Vec<Mat> = (0..nb).map(|b| blk(&plant.a, b)).collect();
+    let a: Vec<Mat> = (0..nb).map(|b| blk(plant.a_at(0), b)).collect();
     let bwb: Vec<Mat> = (0..nb).map(|b| blk(bwb_full, b)).collect();
     let mut p: Vec<Mat> = (0..nb).map(|b| blk(x0_cov, b)).collect();
     let mut x = Mat::zeros(nx, ns);
@@ -225,14 +225,14 @@ pub(super) fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w
         }
         out
     };
-    let bw = &plant.b * w;
+    let bw = plant.b_at(0) * w;
     let mut per_step = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         let g = real.gains(k, 0);
         let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
-        let hx = &plant.cz - &g.df * c;
+        let hx = plant.cz_at(k) - &g.df * c;
         let hs = -&g.cf;
-        let gw = &plant.dz - &g.df * d;
+        let gw = plant.dz_at(k) - &g.df * d;
         let mut mse = 2.0 * (&hx * &x * hs.transpose()).trace()
             + (&hs * &sm * hs.transpose()).trace()
             + (&gw * w * gw.transpose()).trace();

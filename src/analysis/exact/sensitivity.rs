@@ -79,7 +79,8 @@ pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> 
 /// gradient Mᵀ Λ^ε[0] M). Elsewhere the plant coordinates, as before.
 pub fn gradient(plant: &Plant, real: &Realization) -> Vec<Mat> {
     let n = plant.nx();
-    let unstable = || (0..plant.n_modes()).any(|j| spectral_radius(plant.a_of(j)) > 1.0 + 1e-12);
+    let unstable =
+        || (0..plant.horizon).any(|k| (0..plant.n_modes()).any(|j| spectral_radius(plant.a_of(k, j)) > 1.0 + 1e-12));
     if let Some(form) = real.tracks.as_ref().and_then(|_| unstable().then(|| error_form(plant, real).ok())?) {
         return adjoint_gradient(plant, &|k| form.steps[k].clone(), &(-&form.m));
     }
