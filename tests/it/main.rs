@@ -24,4 +24,5 @@ mod promises;
 mod recording;
 mod sdp;
 mod strict_files;
+mod time_varying;
 mod unstable;
