@@ -58,10 +58,10 @@ pub fn worst(plant: &Plant, real: &Realization, dist: &[Option<Disturbance>]) ->
     if bl.is_empty() {
         return Ok(None);
     }
-    if plant.switches() {
+    if plant.random_matrices() {
         return Err(crate::error::Error::invalid(
             "disturbances",
-            "the worst deterministic disturbance is computed for a plant that does not switch (no dropouts, no modes)",
+            "the worst deterministic disturbance is computed for a plant with deterministic matrices (no dropouts, modes or multiplicative noise)",
         ));
     }
     let steps = plant.steps();

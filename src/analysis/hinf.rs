@@ -62,10 +62,10 @@ pub fn operator(plant: &Plant, real: &Realization, s: &Mat) -> Result<Mat> {
 /// Ψ with the chosen last block of rows (see [`Terminal`]).
 pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> Result<Mat> {
     let (n, nz, nw, nn) = (plant.nx(), plant.nz(), plant.nw(), plant.horizon);
-    if plant.switches() {
+    if plant.random_matrices() {
         return Err(Error::invalid(
             "plant",
-            "the generalized H∞ operator Ψ is deterministic only for a plant that does not switch (no dropouts, no modes); with dropouts use the anisotropic analysis (Λ = E[𝓕ᵀ𝓕])",
+            "the generalized H∞ operator Ψ is deterministic only for a plant with deterministic matrices (no dropouts, modes or multiplicative noise); with those use the anisotropic analysis (Λ = E[𝓕ᵀ𝓕])",
         ));
     }
     let s_half = match terminal {

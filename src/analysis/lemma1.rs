@@ -90,13 +90,17 @@ impl Lemma1 {
                 b1: Mat::zeros(nw, nxi),
             };
             let mut here = Mat::zeros(nxi, nxi);
-            for (a, p) in augs.iter().zip(&probs[k]) {
-                let (rf, re) = (&next * &a.f, &next * &a.e);
-                here += *p * (counted * a.h.transpose() * &a.h + a.f.transpose() * &rf);
-                step.n1 += *p * (counted * a.g.transpose() * &a.g + a.e.transpose() * &re);
-                step.b1 += *p * (counted * a.g.transpose() * &a.h + a.e.transpose() * &rf);
-                step.f += *p * &a.f;
-                step.e += *p * &a.e;
+            for (mean, p) in augs.iter().zip(&probs[k]) {
+                // E[·] over the mode and the multiplicative factors: each factor's term adds its
+                // second moment, nothing to the means F̄, Ē.
+                for a in mean.with_terms() {
+                    let (rf, re) = (&next * &a.f, &next * &a.e);
+                    here += *p * (counted * a.h.transpose() * &a.h + a.f.transpose() * &rf);
+                    step.n1 += *p * (counted * a.g.transpose() * &a.g + a.e.transpose() * &re);
+                    step.b1 += *p * (counted * a.g.transpose() * &a.h + a.e.transpose() * &rf);
+                }
+                step.f += *p * &mean.f;
+                step.e += *p * &mean.e;
             }
             if !here.iter().all(|v| v.is_finite()) {
                 return Err(Error::invalid("horizon", format!("the second moments overflow at step {k}")));

@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::model::choice::CovChoice;
 use crate::model::disturbance::{Disturbance, DisturbanceChoice};
 use crate::model::kind::Strict;
-use crate::model::plant::{Covariances, Measurement, Plant, Steps};
+use crate::model::plant::{Covariances, Factor, Measurement, Plant, Steps};
 use crate::model::uncertainty::{CovSet, SetShape};
 use crate::numerics::linalg::{Mat, Vector, check_psd, from_rows};
 
@@ -80,6 +80,7 @@ pub(super) fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> R
         Dz_steps: None,
         known_input: None,
         arrival: None,
+        multiplicative: Vec::new(),
     });
     for (n, m) in plant.block_names().iter().zip(&cov.blocks) {
         raw.nominal.insert(n.to_string(), rows(m));
@@ -347,6 +348,7 @@ fn plant(p: &PlantFile, m: Matrices, dims: Vec<(String, usize)>, modes: Option<&
             *field = s;
         }
     }
+    plant.factors = factors(p, &plant)?;
     if let Some(pa) = p.arrival {
         if !(pa > 0.0 && pa <= 1.0) {
             return Err(Error::invalid("plant.arrival", format!("a probability in (0, 1] is needed, got {pa}")));
@@ -366,6 +368,51 @@ fn plant(p: &PlantFile, m: Matrices, dims: Vec<(String, usize)>, modes: Option<&
         plant.measurement = Measurement::Markov(resolve_modes(mf, &plant)?);
     }
     Ok(plant)
+}
+
+/// `[[plant.multiplicative]]`: each factor's name, shape (scaled to unit variance) and the
+/// matrices it multiplies, of the shapes of the plant's (seed 003 (3.1)).
+fn factors(p: &PlantFile, plant: &Plant) -> Result<Vec<Factor>> {
+    let mut names = std::collections::BTreeSet::new();
+    let mut out = Vec::new();
+    for (i, f) in p.multiplicative.iter().enumerate() {
+        let key = format!("plant.multiplicative[{i}]");
+        check_name(&format!("{key}.name"), &f.name)?;
+        if !names.insert(f.name.as_str()) {
+            return Err(Error::invalid(format!("{key}.name"), format!("factor name `{}` is repeated", f.name)));
+        }
+        f.shape.validate(&format!("{key}.shape"))?;
+        let one = |name: &str,
+                   constant: &Option<Rows>,
+                   list: &Option<Vec<Rows>>,
+                   shape: (usize, usize)|
+         -> Result<Option<Steps>> {
+            match (constant, list) {
+                (Some(_), Some(_)) => {
+                    Err(Error::invalid(format!("{key}.{name}"), format!("give {name} or {name}_steps, not both")))
+                }
+                (Some(r), None) => Ok(Some(Steps::constant(from_rows(&format!("{key}.{name}"), r, Some(shape))?))),
+                (None, Some(_)) => steps(p.horizon, &format!("multiplicative[{i}].{name}"), list, shape),
+                (None, None) => Ok(None),
+            }
+        };
+        let shape = |s: &Steps| (s.nrows(), s.ncols());
+        let factor = Factor {
+            name: f.name.clone(),
+            shape: f.shape.clone(),
+            a: one("A", &f.A, &f.A_steps, shape(&plant.a))?,
+            b: one("B", &f.B, &f.B_steps, shape(&plant.b))?,
+            c: one("C", &f.C, &f.C_steps, shape(&plant.c))?,
+            d: one("D", &f.D, &f.D_steps, shape(&plant.d))?,
+            cz: one("Cz", &f.Cz, &f.Cz_steps, shape(&plant.cz))?,
+            dz: one("Dz", &f.Dz, &f.Dz_steps, shape(&plant.dz))?,
+        };
+        if [&factor.a, &factor.b, &factor.c, &factor.d, &factor.cz, &factor.dz].iter().all(|m| m.is_none()) {
+            return Err(Error::invalid(key, "a factor multiplies at least one of A, B, C, D, Cz, Dz"));
+        }
+        out.push(factor);
+    }
+    Ok(out)
 }
 
 /// `plant.NAME_steps`: one matrix of `shape` per step k = 0..N, replacing NAME.

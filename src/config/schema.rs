@@ -80,6 +80,32 @@ pub(super) struct PlantFile {
     pub(super) known_input: Option<Strict<KnownInputFile>>,
     /// Probability p that a measurement arrives (seed 003: y = λ C x + D w, λ ~ Bernoulli(p)).
     pub(super) arrival: Option<f64>,
+    /// Multiplicative noise factors (seed 003 (3.1)).
+    #[serde(default)]
+    pub(super) multiplicative: Vec<FactorFile>,
+}
+
+/// `[[plant.multiplicative]]`: one factor ζ(k) and the matrices M(k) it multiplies, each constant
+/// or per step (`A` or `A_steps`, …).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub(super) struct FactorFile {
+    pub(super) name: String,
+    #[serde(default, deserialize_with = "kind::strict")]
+    pub(super) shape: Shape,
+    pub(super) A: Option<Rows>,
+    pub(super) B: Option<Rows>,
+    pub(super) C: Option<Rows>,
+    pub(super) D: Option<Rows>,
+    pub(super) Cz: Option<Rows>,
+    pub(super) Dz: Option<Rows>,
+    pub(super) A_steps: Option<Vec<Rows>>,
+    pub(super) B_steps: Option<Vec<Rows>>,
+    pub(super) C_steps: Option<Vec<Rows>>,
+    pub(super) D_steps: Option<Vec<Rows>>,
+    pub(super) Cz_steps: Option<Vec<Rows>>,
+    pub(super) Dz_steps: Option<Vec<Rows>>,
 }
 
 /// Markov-switching matrices (seed 001): the chain and each mode's overrides of the plant's A, B,

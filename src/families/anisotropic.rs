@@ -138,6 +138,8 @@ fn check_setting(input: &DesignInput) -> Result<()> {
         Some("the anisotropic theory takes x(0) known (seed 003 (4.7)): set nominal.x0 to zero")
     } else if p.sum_from != 0 || p.first_measurement != 0 || p.time_varying() {
         Some("the anisotropic design (§4.2.1) needs sum_from = 0, first_measurement = 0 and constant matrices (no plant.*_steps)")
+    } else if !p.factors.is_empty() {
+        Some("the anisotropic design is §4.2.1 (dropouts); multiplicative noise on the other matrices (§4.2.2–§4.2.5) is not built yet")
     } else if p.switches() && p.arrival().is_none() {
         Some("the anisotropic design covers measurement dropouts (plant.arrival), not general Markov modes")
     } else {

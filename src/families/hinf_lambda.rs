@@ -131,6 +131,9 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
 pub fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
     let p = input.plant;
     let n = p.nx();
+    if p.random_matrices() {
+        return Err(Error::invalid(key, "seed 002's setting has deterministic matrices: no dropouts, modes or plant.multiplicative"));
+    }
     if input.pattern != Pattern::Prediction {
         return Err(Error::invalid(
             key,

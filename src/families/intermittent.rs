@@ -44,6 +44,9 @@ impl super::Family for Intermittent {
                 "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
             ));
         }
+        if !input.plant.factors.is_empty() {
+            return Err(Error::design(input.name, "the intermittent-observation filter models dropouts, not multiplicative noise on the matrices"));
+        }
         if input.plant.switches() && input.plant.arrival().is_none() {
             return Err(Error::design(
                 input.name,

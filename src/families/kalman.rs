@@ -89,6 +89,8 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
         Some(("dropouts", "ignored: designed as if every measurement arrived"))
     } else if plant.switches() {
         Some(("modes", "ignored: designed on the plant's base matrices"))
+    } else if !plant.factors.is_empty() {
+        Some(("multiplicative", "ignored: designed on the mean matrices"))
     } else {
         None
     };

@@ -64,8 +64,8 @@ impl super::Family for MarkovJump {
                 "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
             ));
         }
-        if input.plant.time_varying() {
-            return Err(Error::design(name, "the Markov-jump filter needs constant matrices (no plant.*_steps)"));
+        if input.plant.time_varying() || !input.plant.factors.is_empty() {
+            return Err(Error::design(name, "the Markov-jump filter needs constant, noise-free matrices (no plant.*_steps, no plant.multiplicative)"));
         }
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));

@@ -82,6 +82,11 @@ impl super::Family for Minimax {
         if !input.has_sets() {
             return Err(Error::design(input.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
         }
+        if !input.plant.factors.is_empty() {
+            // Theorem 3's saddle point rests on the Kalman filter being optimal at every K, which
+            // multiplicative noise breaks.
+            return Err(Error::design(input.name, "the minimax design (seed 000) needs a plant without plant.multiplicative"));
+        }
         if matches!(p.start, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
             return Err(Error::invalid(format!("{key}.start"), "Algorithm 1 cannot start at another filter's covariance"));
         }

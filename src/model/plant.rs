@@ -22,6 +22,7 @@
 use std::borrow::Cow;
 
 use crate::error::{Error, Result};
+use crate::model::shape::Shape;
 use crate::numerics::linalg::{Mat, Vector, block_diag};
 
 /// How the measurement depends on a random mode (SPEC §0, §3).
@@ -86,6 +87,23 @@ impl Steps {
     }
 }
 
+/// One multiplicative noise factor of seed 003 (2.1)/(3.1): a scalar ζ(k), zero mean and unit
+/// variance, independent over k, of the other factors, of x0, w and the modes, entering every matrix
+/// it names: A(k) = Ā(k) + Σ_i ζ_i(k) A_i(k), and likewise B, C, D, Cz, Dz. One ζ may enter several
+/// matrices (the shared factors of (2.1)); a matrix it does not name it leaves alone.
+#[derive(Clone, Debug)]
+pub struct Factor {
+    pub name: String,
+    /// The distribution of ζ (scaled to unit variance).
+    pub shape: Shape,
+    pub a: Option<Steps>,
+    pub b: Option<Steps>,
+    pub c: Option<Steps>,
+    pub d: Option<Steps>,
+    pub cz: Option<Steps>,
+    pub dz: Option<Steps>,
+}
+
 #[derive(Clone, Debug)]
 pub struct Plant {
     /// N: the horizon; steps run k = 0..=N.
@@ -108,6 +126,8 @@ pub struct Plant {
     pub sum_from: usize,
     /// Whether measurements drop out or the matrices switch.
     pub measurement: Measurement,
+    /// The multiplicative noise factors (seed 003 (3.1)); the matrices above are their means.
+    pub factors: Vec<Factor>,
 }
 
 impl Plant {
@@ -139,6 +159,7 @@ impl Plant {
             noise_blocks,
             sum_from: 0,
             measurement: Measurement::Always,
+            factors: Vec::new(),
         }
     }
     pub fn nx(&self) -> usize {
@@ -162,6 +183,12 @@ impl Plant {
     }
     pub fn measured(&self, k: usize) -> bool {
         k >= self.first_measurement
+    }
+    /// Whether the plant's matrices are random: modes, dropouts or multiplicative noise. A
+    /// deterministic operator from the noise to the error (Ψ, a worst disturbance sequence, the
+    /// block-diagonal fast path) exists only when they are not.
+    pub fn random_matrices(&self) -> bool {
+        self.switches() || !self.factors.is_empty()
     }
     /// Whether any matrix of the plant changes over the steps.
     pub fn time_varying(&self) -> bool {

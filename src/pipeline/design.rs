@@ -38,7 +38,7 @@ const GENERALIZED_H2_MAX_INPUTS: usize = 4000;
 
 fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
     let p = &exp.plant;
-    if p.switches() || p.nx() + p.horizon * p.nw() > GENERALIZED_H2_MAX_INPUTS {
+    if p.random_matrices() || p.nx() + p.horizon * p.nw() > GENERALIZED_H2_MAX_INPUTS {
         return Ok(None);
     }
     crate::analysis::hinf::generalized_h2_norm_sq(p, real, &exp.nominal).map(Some)

@@ -119,6 +119,9 @@ pub struct PlantOps {
     d: Vec<usize>,
     cz: Vec<usize>,
     dz: Vec<usize>,
+    /// Per multiplicative factor i, per step k: its matrices [A_i, B_i, C_i, D_i, Cz_i, Dz_i](k),
+    /// None where it does not enter (C_i, D_i also before the first measurement).
+    factors: Vec<Vec<[Option<usize>; 6]>>,
 }
 
 impl PlantOps {
@@ -150,7 +153,53 @@ impl PlantOps {
                 d.push(index(plant.d_of(k, s)));
             }
         }
-        PlantOps { ops, modes, a, b, c, d, cz, dz }
+        let factors = plant
+            .factors
+            .iter()
+            .map(|f| {
+                (0..plant.steps())
+                    .map(|k| {
+                        let measured = plant.measured(k);
+                        let mut at = |m: &Option<crate::model::plant::Steps>, used: bool| {
+                            m.as_ref().filter(|_| used).map(|s| index(Cow::Borrowed(s.at(k))))
+                        };
+                        [
+                            at(&f.a, true),
+                            at(&f.b, true),
+                            at(&f.c, measured),
+                            at(&f.d, measured),
+                            at(&f.cz, true),
+                            at(&f.dz, true),
+                        ]
+                    })
+                    .collect()
+            })
+            .collect();
+        PlantOps { ops, modes, a, b, c, d, cz, dz, factors }
+    }
+    /// Adds Σ_i ζ_i(k) M_i x to `out` for the matrix `which` (0 = A, …, 5 = Dz) of every factor.
+    #[inline]
+    fn add_factors<S>(
+        &self,
+        which: usize,
+        k: usize,
+        zeta: &Mat,
+        x: &nalgebra::Matrix<f64, nalgebra::Dyn, nalgebra::U1, S>,
+        out: &mut Vector,
+    ) where
+        S: nalgebra::storage::Storage<
+                f64,
+                nalgebra::Dyn,
+                nalgebra::U1,
+                RStride = nalgebra::U1,
+                CStride = nalgebra::Dyn,
+            >,
+    {
+        for (i, f) in self.factors.iter().enumerate() {
+            if let Some(op) = f[k][which] {
+                self.ops[op].apply(zeta[(i, k)], x, 1.0, out);
+            }
+        }
     }
     fn a(&self, k: usize, mode: usize) -> &LinOp {
         &self.ops[self.a[k * self.modes + mode]]
@@ -245,6 +294,13 @@ pub fn run_trial(
         ops.d(k, theta).apply(1.0, &wk, 1.0, &mut ws.y);
         ops.ops[ops.cz[k]].apply(1.0, &ws.x, 0.0, &mut ws.z);
         ops.ops[ops.dz[k]].apply(1.0, &wk, 1.0, &mut ws.z);
+        if !ops.factors.is_empty() {
+            let zeta = &ws.draw.zeta;
+            ops.add_factors(2, k, zeta, &ws.x, &mut ws.y);
+            ops.add_factors(3, k, zeta, &wk, &mut ws.y);
+            ops.add_factors(4, k, zeta, &ws.x, &mut ws.z);
+            ops.add_factors(5, k, zeta, &wk, &mut ws.z);
+        }
         let r = p.r_at(k);
         for (f, real) in sc.filters.iter().enumerate() {
             let form = sc.form(f).map(|form| &form.steps[k][theta]);
@@ -283,6 +339,10 @@ pub fn run_trial(
         if k < p.horizon {
             ops.a(k, theta).apply(1.0, &ws.x, 0.0, &mut ws.x_next);
             ops.b(k, theta).apply(1.0, &wk, 1.0, &mut ws.x_next);
+            if !ops.factors.is_empty() {
+                ops.add_factors(0, k, &ws.draw.zeta, &ws.x, &mut ws.x_next);
+                ops.add_factors(1, k, &ws.draw.zeta, &wk, &mut ws.x_next);
+            }
             if let Some(r) = r {
                 ws.x_next += r;
             }

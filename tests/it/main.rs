@@ -18,6 +18,7 @@ mod kalman;
 mod lemma1;
 mod markov_jump;
 mod minimax;
+mod multiplicative;
 mod nees;
 mod output_safety;
 mod promises;

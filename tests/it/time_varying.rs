@@ -18,7 +18,14 @@ fn steps(n: usize, f: impl Fn(usize) -> Vec<Vec<f64>>) -> String {
 /// A 2-state plant whose A rotates and shrinks, B, C, D, Cz (and Dz when `dz`) changing with k.
 /// With `split`, D only reaches the measurement block and B only the process block (seed 002's
 /// noise split (5.5)), Dz = 0.
-fn plant_text(pattern: &str, horizon: usize, split: bool, extra: &str, filters: &str, scenarios: &str) -> String {
+pub(crate) fn plant_text(
+    pattern: &str,
+    horizon: usize,
+    split: bool,
+    extra: &str,
+    filters: &str,
+    scenarios: &str,
+) -> String {
     let a = steps(horizon, |k| {
         let (t, r) = (0.15 * k as f64, 0.97 - 0.1 * (0.2 * k as f64).sin().abs());
         vec![vec![r * t.cos(), -r * t.sin()], vec![r * t.sin(), r * t.cos()]]
@@ -74,7 +81,7 @@ half_width = 0.4
     )
 }
 
-fn parse(text: &str) -> Experiment {
+pub(crate) fn parse(text: &str) -> Experiment {
     config::parse("time_varying", "time_varying.toml", text).unwrap_or_else(|e| panic!("parses: {e}"))
 }
 
@@ -183,7 +190,7 @@ fn constant_matrix_designs_refuse_time_varying_plants() {
     let mj = "[[filters]]\nname = \"m\"\nfamily = \"markov_jump\"\n";
     let text = plant_text("prediction", 10, true, "arrival = 0.9", mj, "[[scenarios]]\nname = \"n\"\n");
     let err = pipeline::design_all(&parse(&text)).err().expect("refused").to_string();
-    assert!(err.contains("constant matrices"), "{err}");
+    assert!(err.contains("constant, noise-free matrices"), "{err}");
     let modes = "[modes]\ntransition = [[0.9, 0.1], [0.2, 0.8]]\n[[modes.mode]]\nname = \"x\"\n[[modes.mode]]\nname = \"y\"\nA = [[0.5, 0.0], [0.0, 0.5]]\n";
     let text = plant_text("prediction", 10, true, "", PREDICTION, &format!("[[scenarios]]\nname = \"n\"\n\n{modes}"));
     let err = config::parse("tv", "tv.toml", &text).err().expect("refused").to_string();

@@ -47,6 +47,10 @@ pub(super) const IDENTITY_TOLERANCE: f64 = 1e-9;
 /// filter its family designed, whose gains satisfy the identity by construction.
 pub fn error_form(plant: &Plant, real: &Realization) -> std::result::Result<ErrorForm, String> {
     let (n, ns) = (plant.nx(), real.ns());
+    if !plant.factors.is_empty() {
+        // ζ_i A_i x enters x but not the filter: ε = s − M x would carry x along.
+        return Err("the plant has multiplicative noise (ε = s − M x would depend on x)".into());
+    }
     let m = real.tracks.as_ref().ok_or("the filter declares no M (what its state tracks)")?;
     if m.shape() != (ns, n) {
         return Err(format!("its M is {}×{}, not {ns}×{n}", m.nrows(), m.ncols()));
@@ -83,6 +87,7 @@ pub fn error_form(plant: &Plant, real: &Realization) -> std::result::Result<Erro
                 h: -&g.cf,
                 g: plant.dz_at(k) - &g.df * d,
                 r_map,
+                terms: Vec::new(),
             });
         }
         steps.push(here);

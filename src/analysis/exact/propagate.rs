@@ -100,13 +100,17 @@ pub(super) fn propagate(
                 (Some(_), None) => Mat::zeros(nxi, nw),
                 (None, _) => &m[j] * mu.transpose(),
             };
-            let ej = (&a.h * &y[j] * a.h.transpose()).trace()
-                + 2.0 * (&a.h * &zk * a.g.transpose()).trace()
-                + pj * (&a.g * &rkk * a.g.transpose()).trace();
-            let (habs, gabs) = (a.h.abs(), a.g.abs());
-            magnitude += abs_dot(&(habs.transpose() * &habs), &y[j])
-                + 2.0 * abs_dot(&(habs.transpose() * &gabs), &zk)
-                + pj * abs_dot(&(gabs.transpose() * &gabs), &rkk);
+            // The mean matrices and each factor's term (module docs) add up in the second moment.
+            let mut ej = 0.0;
+            for t in a.with_terms() {
+                ej += (&t.h * &y[j] * t.h.transpose()).trace()
+                    + 2.0 * (&t.h * &zk * t.g.transpose()).trace()
+                    + pj * (&t.g * &rkk * t.g.transpose()).trace();
+                let (habs, gabs) = (t.h.abs(), t.g.abs());
+                magnitude += abs_dot(&(habs.transpose() * &habs), &y[j])
+                    + 2.0 * abs_dot(&(habs.transpose() * &gabs), &zk)
+                    + pj * abs_dot(&(gabs.transpose() * &gabs), &rkk);
+            }
             mse += ej;
             if counted {
                 per_mode[j] += ej;
@@ -117,13 +121,17 @@ pub(super) fn propagate(
             let c = r.map_or_else(|| Vector::zeros(nxi), |r| &a.r_map * r);
             let v = &a.f * &m[j] + pj * (&a.e * &mu);
             let fze = &a.f * &zk * a.e.transpose();
-            let yn = &a.f * &y[j] * a.f.transpose()
+            let mut yn = &a.f * &y[j] * a.f.transpose()
                 + &fze
                 + fze.transpose()
                 + pj * (&a.e * &rkk * a.e.transpose())
                 + &c * v.transpose()
                 + &v * c.transpose()
                 + pj * (&c * c.transpose());
+            for t in &a.terms {
+                let fze = &t.f * &zk * t.e.transpose();
+                yn += &t.f * &y[j] * t.f.transpose() + &fze + fze.transpose() + pj * (&t.e * &rkk * t.e.transpose());
+            }
             let zn = match (&z[j], input) {
                 (Some(zj), Input::Joint { mean, raw }) => {
                     let mut zn = &a.f * zj + pj * (&c * mean.transpose());

@@ -34,9 +34,13 @@ pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> 
     let mut r = vec![Mat::zeros(nxi, nxi); steps + 1];
     for t in (0..steps).rev() {
         let counted = if plant.counts(t) { 1.0 } else { 0.0 };
-        let v = augs[t].iter().zip(&p).fold(Mat::zeros(nxi, nxi), |acc, (a, pj)| {
-            acc + *pj * (counted * a.h.transpose() * &a.h + a.f.transpose() * &r[t + 1] * &a.f)
-        });
+        let v = augs[t]
+            .iter()
+            .zip(&p)
+            .flat_map(|(a, pj)| a.with_terms().map(move |a| (a, pj)))
+            .fold(Mat::zeros(nxi, nxi), |acc, (a, pj)| {
+                acc + *pj * (counted * a.h.transpose() * &a.h + a.f.transpose() * &r[t + 1] * &a.f)
+            });
         r[t] = symmetrize(&v);
     }
     let dim = n + steps * nw;
@@ -47,13 +51,15 @@ pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> 
     for j in 0..steps {
         let counted = if plant.counts(j) { 1.0 } else { 0.0 };
         let oj = n + j * nw;
-        let (diag, mut l) =
-            augs[j].iter().zip(&p).fold((Mat::zeros(nw, nw), Mat::zeros(nw, nxi)), |(d, l), (a, pj)| {
+        let (diag, mut l) = augs[j].iter().zip(&p).flat_map(|(a, pj)| a.with_terms().map(move |a| (a, pj))).fold(
+            (Mat::zeros(nw, nw), Mat::zeros(nw, nxi)),
+            |(d, l), (a, pj)| {
                 (
                     d + *pj * (counted * a.g.transpose() * &a.g + a.e.transpose() * &r[j + 1] * &a.e),
                     l + *pj * (counted * a.g.transpose() * &a.h + a.e.transpose() * &r[j + 1] * &a.f),
                 )
-            });
+            },
+        );
         lambda.view_mut((oj, oj), (nw, nw)).copy_from(&diag);
         for i in (0..j).rev() {
             let oi = n + i * nw;
@@ -110,14 +116,17 @@ pub(super) fn adjoint_gradient(plant: &Plant, system: &dyn Fn(usize) -> Vec<Augm
         for (j, a) in augs.iter().enumerate() {
             let mut l = Mat::zeros(nxi, nxi);
             let mut g = Mat::zeros(nw, nw);
-            if plant.counts(k) {
-                g += a.g.transpose() * &a.g;
-                l += a.h.transpose() * &a.h;
-            }
-            if let Some(next) = &lambda {
-                let ahead = weighted_sum(nxi, nxi, (0..q).map(|i| (transition[(j, i)], &next[i])));
-                g += a.e.transpose() * &ahead * &a.e;
-                l += a.f.transpose() * &ahead * &a.f;
+            let ahead =
+                lambda.as_ref().map(|next| weighted_sum(nxi, nxi, (0..q).map(|i| (transition[(j, i)], &next[i]))));
+            for t in a.with_terms() {
+                if plant.counts(k) {
+                    g += t.g.transpose() * &t.g;
+                    l += t.h.transpose() * &t.h;
+                }
+                if let Some(ahead) = &ahead {
+                    g += t.e.transpose() * ahead * &t.e;
+                    l += t.f.transpose() * ahead * &t.f;
+                }
             }
             gw += probs[k][j] * g;
             here.push(symmetrize(&l));

@@ -40,6 +40,8 @@ pub struct NoiseSampler {
     joint: Option<JointInput>,
     /// The Markov chain of the plant's modes (dropouts included), drawn after the noise.
     chain: Option<crate::model::plant::Modes>,
+    /// The multiplicative factors' ζ_i(k) (seed 003 (3.1)), drawn after the modes.
+    factors: Vec<StandardDraw>,
 }
 
 /// One trial's draws: the initial state and w[k] as column k of `w`.
@@ -50,6 +52,8 @@ pub struct TrialDraw {
     /// θ[k], the plant's mode at step k (all 0 for a plant that does not switch; for dropouts
     /// 0 = lost, 1 = arrived).
     pub modes: Vec<usize>,
+    /// ζ_i(k): row i is factor i of the plant's multiplicative noise.
+    pub zeta: Mat,
     u0: Vector,
     u: Vector,
     uj: Vector,
@@ -67,6 +71,7 @@ impl NoiseSampler {
             w_mean: None,
             joint: None,
             chain: plant.modes().map(std::borrow::Cow::into_owned),
+            factors: plant.factors.iter().map(|f| f.shape.sampler()).collect(),
         }
     }
 
@@ -87,6 +92,7 @@ impl NoiseSampler {
             x0: Vector::zeros(self.m0.len()),
             w: Mat::zeros(self.lw.nrows(), self.steps),
             modes: vec![0; self.steps],
+            zeta: Mat::zeros(self.factors.len(), self.steps),
             u0: Vector::zeros(self.l0.ncols()),
             u: Vector::zeros(self.lw.ncols()),
             uj: Vector::zeros(self.joint.as_ref().map_or(0, JointInput::dim)),
@@ -95,7 +101,8 @@ impl NoiseSampler {
     }
 
     /// Fills `out` with one trial's draws from `rng`: the noise, then the mode sequence
-    /// θ[0] ~ p(0), θ[k+1] ~ Π[θ[k], ·] (seed 001 (11)).
+    /// θ[0] ~ p(0), θ[k+1] ~ Π[θ[k], ·] (seed 001 (11)), then the multiplicative factors ζ_i(k)
+    /// (so a plant without factors draws exactly what it drew before they existed).
     pub fn draw_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, out: &mut TrialDraw) {
         self.draw_noise(rng, out);
         if let Some(chain) = &self.chain {
@@ -116,6 +123,11 @@ impl NoiseSampler {
             for m in out.modes.iter_mut() {
                 *m = theta;
                 theta = pick(rng, &mut chain.transition.row(theta).iter().copied());
+            }
+        }
+        for k in 0..self.steps {
+            for (i, f) in self.factors.iter().enumerate() {
+                out.zeta[(i, k)] = f.draw(rng);
             }
         }
     }
@@ -153,6 +165,6 @@ impl NoiseSampler {
 
     /// Number of standardized scalars one trial consumes.
     pub fn scalars_per_trial(&self) -> usize {
-        self.l0.ncols() + self.steps * self.lw.ncols()
+        self.l0.ncols() + self.steps * (self.lw.ncols() + self.factors.len())
     }
 }
