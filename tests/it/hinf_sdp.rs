@@ -1,0 +1,123 @@
+//! The design form of seed 002's SDP (4.7) (src/families/hinf_sdp.rs) against the Riccati route
+//! (5.9)–(5.10): λ_min from one SDP against bisection, the SDP's central filter against the
+//! Riccati's gains, and every SDP filter's generalized H∞ norm² (λmax(ΨKΨᵀ), computed from the
+//! gains alone) within its λ.
+//!
+//! Tolerance: clarabel stops at relative gap and feasibility residuals of 1e-10 (1e-8 on the robust
+//! retry). A residual ε in the LMIs moves the optimal λ by about ε times the size of the dual
+//! multipliers and the LMI entries (here up to ~1e2: X grows to the information of 60 regressors),
+//! so λ_min agrees to 1e-6 relative (100 × the retry's 1e-8). The bisection's own tolerance is 1e-12.
+//! Gains are ratios X⁻¹Z of solver variables at the boundary of the LMIs; the central one is
+//! compared at 1e-4 relative to the largest gain.
+
+use filterbench::analysis::hinf;
+use filterbench::config::Experiment;
+use filterbench::families::hinf_lambda::{lambda_min, predictor, recursion};
+use filterbench::families::hinf_sdp::{Choice, design_at, minimize_lambda};
+use filterbench::numerics::linalg::Mat;
+
+const LAMBDA_REL: f64 = 1e-6;
+
+/// The shipped experiments (S = I in both) and three random plants with the noise split (5.5).
+fn cases() -> Vec<(String, Experiment)> {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    let mut out = vec![
+        ("hinf_regression".to_string(), crate::common::load("hinf_regression", 10)),
+        ("hinf_tradeoff".to_string(), crate::common::load("hinf_tradeoff", 10)),
+    ];
+    let base = crate::common::load("hinf_tradeoff", 10);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+    let mut g = |r: usize, c: usize, scale: f64| {
+        Mat::from_fn(r, c, |_, _| {
+            let x: f64 = StandardNormal.sample(&mut rng);
+            scale * x
+        })
+    };
+    for i in 0..3 {
+        let mut e = base.clone();
+        e.plant.horizon = 15;
+        e.plant.known_input.clear();
+        e.plant.a = g(3, 3, 0.6);
+        let b = g(3, 3, 0.4);
+        e.plant.b.view_mut((0, 0), (3, 3)).copy_from(&b);
+        e.plant.c = g(1, 3, 1.0);
+        e.plant.cz = g(2, 3, 1.0);
+        out.push((format!("random_{i}"), e));
+    }
+    out
+}
+
+fn s() -> Mat {
+    Mat::identity(3, 3)
+}
+
+#[test]
+fn lambda_min_by_sdp_matches_the_riccati_bisection() {
+    for (name, e) in cases() {
+        let riccati = lambda_min(&e.plant, &e.nominal, &s()).unwrap();
+        let t = std::time::Instant::now();
+        let sdp = minimize_lambda(&e.plant, &e.nominal, &s()).unwrap();
+        let wall = t.elapsed().as_secs_f64();
+        let rel = (sdp.lambda - riccati).abs() / riccati;
+        eprintln!(
+            "{name}: λ_min Riccati {riccati:.10} SDP {:.10} rel. diff {rel:.2e}; {} variables, {} PSD blocks of {:?}, {} iterations, {:.3} s solve ({wall:.3} s with setup)",
+            sdp.lambda,
+            sdp.variables,
+            sdp.blocks.len(),
+            sdp.blocks.iter().collect::<std::collections::BTreeSet<_>>(),
+            sdp.iterations,
+            sdp.seconds
+        );
+        assert!(rel <= LAMBDA_REL, "{name}: λ_min by SDP {} vs Riccati {riccati}", sdp.lambda);
+        // The SDP's own filter at λ_min: its norm² is λ_min to the same tolerance.
+        let (n2, _) = hinf::norm(&e.plant, &predictor(&e.plant, &sdp.gains), &e.nominal, &s()).unwrap();
+        assert!((n2 - riccati).abs() <= LAMBDA_REL * riccati, "{name}: SDP filter norm² {n2} vs λ_min {riccati}");
+    }
+}
+
+/// At λ above λ_min: the central SDP filter is the Riccati's (gains to 1e-4 of the largest), the
+/// min-storage one is not (its gains differ by more than 1e-2 of the largest somewhere, on the
+/// shipped experiments), and both have norm² ≤ λ; neither beats λ_min.
+#[test]
+fn central_and_min_storage_filters_keep_the_bound() {
+    for (name, e) in cases() {
+        let lmin = lambda_min(&e.plant, &e.nominal, &s()).unwrap();
+        for factor in [1.01, 1.5, 4.0] {
+            let l = lmin * factor;
+            let riccati = recursion(&e.plant, &e.nominal, &s(), l).unwrap();
+            let scale = riccati.iter().map(|g| g.amax()).fold(0.0, f64::max);
+            let mut diffs = Vec::new();
+            for choice in [Choice::Central, Choice::MinStorage] {
+                let d = design_at(&e.plant, &e.nominal, &s(), l, choice).unwrap();
+                let (n2, _) = hinf::norm(&e.plant, &predictor(&e.plant, &d.gains), &e.nominal, &s()).unwrap();
+                let diff = riccati[..e.plant.horizon]
+                    .iter()
+                    .zip(&d.gains)
+                    .map(|(a, b)| (a - b).amax())
+                    .fold(0.0, f64::max)
+                    / scale;
+                eprintln!(
+                    "{name} λ = {factor} λ_min: {choice:?} norm² {n2:.8} (λ {l:.8}), max gain diff from Riccati {diff:.2e}, {} iterations {:.3} s",
+                    d.iterations, d.seconds
+                );
+                assert!(n2 <= l, "{name} {choice:?} at {factor} λ_min: norm² {n2} > λ {l}");
+                assert!(n2 >= lmin * (1.0 - LAMBDA_REL), "{name} {choice:?}: norm² {n2} below λ_min {lmin}");
+                diffs.push(diff);
+            }
+            assert!(diffs[0] <= 1e-4, "{name} at {factor} λ_min: central SDP gains differ from Riccati by {}", diffs[0]);
+            if !name.starts_with("random") {
+                assert!(diffs[1] >= 1e-2, "{name} at {factor} λ_min: min-storage gains are the central ones");
+            }
+        }
+    }
+}
+
+/// Below λ_min the design SDP at fixed λ is infeasible and says so.
+#[test]
+fn below_lambda_min_the_design_sdp_is_infeasible() {
+    let e = crate::common::load("hinf_tradeoff", 10);
+    let lmin = lambda_min(&e.plant, &e.nominal, &s()).unwrap();
+    let err = design_at(&e.plant, &e.nominal, &s(), 0.9 * lmin, Choice::Central).unwrap_err().to_string();
+    assert!(err.contains("below λ_min"), "{err}");
+}
