@@ -12,14 +12,14 @@
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound};
+use super::hinf_sdp::{self, Choice};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
-use crate::model::plant::{Covariances, Plant};
+use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::plant::Pattern;
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
 use crate::numerics::solve::line::bisect;
-use super::hinf_sdp::{self, Choice};
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
@@ -230,14 +230,17 @@ impl super::Family for HinfLambda {
         if norm2 > lambda {
             return Err(Error::design(
                 input.name,
-                format!("the SDP (4.7) filter's norm² {norm2} exceeds λ = {lambda}: the solver's point is not feasible enough; raise margin or λ"),
+                format!(
+                    "the SDP (4.7) filter's norm² {norm2} exceeds λ = {lambda}: the solver's point is not feasible enough; raise margin or λ"
+                ),
             ));
         }
         diagnostics.insert("lambda".into(), lambda.into());
         if let Some(lm) = lmin {
             diagnostics.insert("lambda_min".into(), lm.into());
         }
-        let (sdp, iterations, seconds) = crate::analysis::hinf::norm_sdp(input.plant, &realization, &input.nominal, &s)?;
+        let (sdp, iterations, seconds) =
+            crate::analysis::hinf::norm_sdp(input.plant, &realization, &input.nominal, &s)?;
         diagnostics.insert("hinf_norm_squared_sdp".into(), sdp.into());
         diagnostics.insert("sdp_iterations".into(), iterations.into());
         diagnostics.insert("sdp_seconds".into(), seconds.into());

@@ -122,7 +122,10 @@ fn finish(p: &Program, plant: &Plant, sol: &Solution, lambda: f64) -> Result<Sdp
     let mut gains = Vec::with_capacity(plant.steps());
     for (t, z) in p.z.iter().enumerate() {
         let chol = nalgebra::Cholesky::new(storage[t + 1].clone()).ok_or_else(|| {
-            Error::invalid("hinf", format!("the SDP (4.7) gave a singular X[{}]: the gain Θ = X⁻¹Z is not defined", t + 1))
+            Error::invalid(
+                "hinf",
+                format!("the SDP (4.7) gave a singular X[{}]: the gain Θ = X⁻¹Z is not defined", t + 1),
+            )
         })?;
         gains.push(chol.solve(&z.value(&sol.x)));
     }
