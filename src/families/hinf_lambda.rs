@@ -9,6 +9,8 @@
 //! Σ_{t<N} |e_z[t]|² + e[N]ᵀ S e[N] < λ (|x0 − E x0|²_R + Σ_{t<N} |w[t]|²_G).
 //! λ → ∞ gives the Kalman predictor; `lambda = "min"` bisects for the smallest feasible λ (the
 //! generalized H∞-optimal filter) and uses it times (1 + margin).
+//! `method = "sdp"` designs through the design form of the SDP (4.7) instead ([`super::hinf_sdp`]):
+//! λ_min from one SDP, and with `sdp_filter` the central filter or a non-central one.
 
 use serde::Deserialize;
 

@@ -20,29 +20,12 @@ const LAMBDA_REL: f64 = 1e-6;
 
 /// The shipped experiments (S = I in both) and three random plants with the noise split (5.5).
 fn cases() -> Vec<(String, Experiment)> {
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, StandardNormal};
     let mut out = vec![
         ("hinf_regression".to_string(), crate::common::load("hinf_regression", 10)),
         ("hinf_tradeoff".to_string(), crate::common::load("hinf_tradeoff", 10)),
     ];
     let base = crate::common::load("hinf_tradeoff", 10);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
-    let mut g = |r: usize, c: usize, scale: f64| {
-        Mat::from_fn(r, c, |_, _| {
-            let x: f64 = StandardNormal.sample(&mut rng);
-            scale * x
-        })
-    };
-    for i in 0..3 {
-        let mut e = base.clone();
-        e.plant.horizon = 15;
-        e.plant.known_input.clear();
-        e.plant.a = g(3, 3, 0.6);
-        let b = g(3, 3, 0.4);
-        e.plant.b.view_mut((0, 0), (3, 3)).copy_from(&b);
-        e.plant.c = g(1, 3, 1.0);
-        e.plant.cz = g(2, 3, 1.0);
+    for (i, e) in crate::hinf::random_plants(&base, 17, 3, 0.6).into_iter().enumerate() {
         out.push((format!("random_{i}"), e));
     }
     out
