@@ -14,6 +14,8 @@ Notation (one horizon, t0 = 0, tf = N):
   split (5.5): B G B' = GB, D G D' = GD > 0, B G D' = 0.
 
 Run with numpy only; part (d) needs cvxpy (Clarabel) and is skipped if cvxpy is missing.
+With experiment names as arguments (`seed002_hinf_reference.py hinf_tradeoff hinf_regression`) it
+prints part (e) instead: lambda_min of those shipped experiments by bisection and by the design SDP.
 """
 import numpy as np
 
@@ -116,7 +118,7 @@ def hinf_lambda(lam, Al=None, Cl=None, Czl=None, GBl=None, GDl=None, Rl=None, Sh
     Al, Cl, Czl = (A if Al is None else Al), (C if Cl is None else Cl), (Cz if Czl is None else Czl)
     GBl, GDl, Rl, Shl = (GB if GBl is None else GBl), (GD if GDl is None else GDl), (R if Rl is None else Rl), (Sh if Shl is None else Shl)
     P = [Rl]; Th = []
-    for t in range(N):
+    for t in range(len(Al)):
         Pt = P[-1]
         if np.linalg.eigvalsh(lam * np.eye(Czl[t].shape[0]) - Czl[t] @ Pt @ Czl[t].T)[0] <= 0:
             return False, Th, P, f"Cz P Cz' >= lam at t={t}"
@@ -127,7 +129,7 @@ def hinf_lambda(lam, Al=None, Cl=None, Czl=None, GBl=None, GDl=None, Rl=None, Sh
         Th.append(Al[t] @ Mi @ Cl[t].T @ np.linalg.inv(GDl[t]))
         Pn = Al[t] @ Mi @ Al[t].T + GBl[t]
         P.append((Pn + Pn.T) / 2)
-    if np.linalg.eigvalsh(lam * np.eye(Shl.shape[0]) - Shl @ P[N] @ Shl)[0] <= 0:
+    if np.linalg.eigvalsh(lam * np.eye(Shl.shape[0]) - Shl @ P[-1] @ Shl)[0] <= 0:
         return False, Th, P, "terminal S^1/2 P[N] S^1/2 >= lam"
     return True, Th, P, "ok"
 
@@ -153,6 +155,60 @@ def analysis_riccati_feasible(Th, lam):
         Y = Ac @ Q @ Ac.T + Bc @ G[t] @ Bc.T
         Y = (Y + Y.T) / 2
     return np.linalg.eigvalsh(lam * np.eye(n) - Sh @ Y @ Sh)[0] > 0
+
+
+def design_sdp(Al, Bl, Cl, Dl, Czl, Gl, Rl, Shl):
+    """Design form of (4.7) with Th = X[t+1]^-1 Z: minimize lambda. Returns (lambda, status, Th)."""
+    import cvxpy as cp
+    Nl, nx, nyl, nvl, nzl = len(Al), Al[0].shape[0], Cl[0].shape[0], Bl[0].shape[1], Czl[0].shape[0]
+    lam = cp.Variable()
+    X = [cp.Constant(np.linalg.inv(Rl))] + [cp.Variable((nx, nx), symmetric=True) for _ in range(Nl)]
+    Z = [cp.Variable((nx, nyl)) for _ in range(Nl)]
+    cons = []
+    for t in range(Nl):
+        XA = X[t + 1] @ Al[t] - Z[t] @ Cl[t]
+        XB = X[t + 1] @ Bl[t] - Z[t] @ Dl[t]
+        L = cp.bmat([[-X[t], np.zeros((nx, nvl)), Czl[t].T, XA.T],
+                     [np.zeros((nvl, nx)), -np.linalg.inv(Gl[t]), np.zeros((nvl, nzl)), XB.T],
+                     [Czl[t], np.zeros((nzl, nvl)), -lam * np.eye(nzl), np.zeros((nzl, nx))],
+                     [XA, XB, np.zeros((nx, nzl)), -X[t + 1]]])
+        cons.append((L + L.T) / 2 << 0)
+    T = cp.bmat([[X[Nl], Shl], [Shl, lam * np.eye(nx)]])
+    cons.append((T + T.T) / 2 >> 0)
+    pr = cp.Problem(cp.Minimize(lam), cons)
+    pr.solve(solver=cp.CLARABEL)
+    Th = [np.linalg.solve(X[t + 1].value, Z[t].value) for t in range(Nl)]
+    return lam.value, pr.status, Th
+
+
+def shipped(name):
+    """(e) lambda_min of a shipped experiment (time-invariant A, B, D, Cz; C per step if given):
+    bisection on (5.10) and the design SDP, the numbers tests/it/hinf_sdp.rs checks the Rust SDP
+    against."""
+    import pathlib
+    import tomllib
+    path = pathlib.Path(__file__).resolve().parent.parent / "experiments" / f"{name}.toml"
+    e = tomllib.loads(path.read_text())
+    pl, nom = e["plant"], e["nominal"]
+    Nl = pl["horizon"]
+    A1, B1, D1 = (np.array(pl[k], float) for k in ("A", "B", "D"))
+    nx = A1.shape[0]
+    Cz1 = np.array(pl.get("Cz", np.eye(nx)), float)
+    Cs = [np.array(c, float) for c in pl["C_steps"]] if "C_steps" in pl else [np.array(pl["C"], float)] * Nl
+    blocks = [np.array(nom[b], float) for b in pl["noise_blocks"]]
+    Gl = np.zeros((sum(b.shape[0] for b in blocks),) * 2)
+    o = 0
+    for b in blocks:
+        Gl[o:o + b.shape[0], o:o + b.shape[0]] = b
+        o += b.shape[0]
+    Rl = np.array(nom["x0"], float)
+    Sl = np.array(next(f for f in e["filters"] if f.get("lambda") == "min")["terminal_weight"], float)
+    Al, Bl, Dl, Czl = [A1] * Nl, [B1] * Nl, [D1] * Nl, [Cz1] * (Nl + 1)
+    GBl, GDl = [B1 @ Gl @ B1.T] * Nl, [D1 @ Gl @ D1.T] * Nl
+    lam_b = bisect_lambda(lambda l: hinf_lambda(l, Al, Cs[:Nl], Czl, GBl, GDl, Rl, msqrt(Sl))[0], tol=1e-12)
+    lam_s, st, _ = design_sdp(Al, Bl, Cs[:Nl], Dl, Czl, [Gl] * Nl, Rl, msqrt(Sl))
+    print(f"(e) {name}: lambda_min bisection={lam_b:.10f}, design SDP (cvxpy/Clarabel)={lam_s:.10f} ({st}),"
+          f" rel.diff {abs(lam_s - lam_b) / lam_b:.1e}")
 
 
 def main():
@@ -282,36 +338,21 @@ def main():
         pr.solve(solver=cp.CLARABEL)
         return lam.value, pr.status
 
-    def sdp_design():
-        lam = cp.Variable()
-        X = [cp.Constant(np.linalg.inv(R))] + [cp.Variable((n, n), symmetric=True) for _ in range(N)]
-        Z = [cp.Variable((n, ny)) for _ in range(N)]
-        cons = []
-        for t in range(N):
-            XA = X[t + 1] @ A[t] - Z[t] @ C[t]
-            XB = X[t + 1] @ B[t] - Z[t] @ D[t]
-            L = cp.bmat([[-X[t], np.zeros((n, nv)), Cz[t].T, XA.T],
-                         [np.zeros((nv, n)), -np.linalg.inv(G[t]), np.zeros((nv, nz)), XB.T],
-                         [Cz[t], np.zeros((nz, nv)), -lam * np.eye(nz), np.zeros((nz, n))],
-                         [XA, XB, np.zeros((n, nz)), -X[t + 1]]])
-            cons.append((L + L.T) / 2 << 0)
-        T = cp.bmat([[X[N], Sh], [Sh, lam * np.eye(n)]])
-        cons.append((T + T.T) / 2 >> 0)
-        pr = cp.Problem(cp.Minimize(lam), cons)
-        pr.solve(solver=cp.CLARABEL)
-        Th = [np.linalg.solve(X[t + 1].value, Z[t].value) for t in range(N)]
-        return lam.value, pr.status, Th
-
     lsK, st = sdp_analysis(ThK)
     print(f"(d) SDP (4.7) [Clarabel], Kalman predictor: lambda*={lsK:.8g} ({st}) vs lambda_max={nK:.8g}, rel.diff {abs(lsK-nK)/nK:.1e}")
     for f in [1.01, 1.5]:
         lam, Th, nm = res_c[f]
         ls, st = sdp_analysis(Th)
         print(f"    H-inf-lambda filter (lambda={lam:.6g}): SDP={ls:.8g} ({st}) vs lambda_max={nm:.8g}, rel.diff {abs(ls-nm)/nm:.1e}")
-    ld, st, ThD = sdp_design()
+    ld, st, ThD = design_sdp(A, B, C, D, Cz, G, R, Sh)
     print(f"    design SDP (X[t+1]Th=Z): min lambda={ld:.8g} ({st}) vs bisection lambda_min={lam_min:.8g}, rel.diff {abs(ld-lam_min)/lam_min:.1e};"
           f" lambda_max of the SDP filter={ghinf_norm(ThD):.8g}")
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+    if sys.argv[1:]:
+        for name in sys.argv[1:]:
+            shipped(name)
+    else:
+        main()

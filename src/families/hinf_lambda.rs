@@ -9,15 +9,18 @@
 //! Σ_{t<N} |e_z[t]|² + e[N]ᵀ S e[N] < λ (|x0 − E x0|²_R + Σ_{t<N} |w[t]|²_G).
 //! λ → ∞ gives the Kalman predictor; `lambda = "min"` bisects for the smallest feasible λ (the
 //! generalized H∞-optimal filter) and uses it times (1 + margin).
+//! `method = "sdp"` designs through the design form of the SDP (4.7) instead ([`super::hinf_sdp`]):
+//! λ_min from one SDP, and with `sdp_filter` the central filter or a non-central one.
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound};
+use super::hinf_sdp::{self, Choice};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
-use crate::model::plant::{Covariances, Plant};
+use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::plant::Pattern;
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
 use crate::numerics::solve::line::bisect;
 
 #[derive(Deserialize, Debug, Clone)]
@@ -37,6 +40,20 @@ pub struct Params {
     /// With lambda = "min": the filter uses λ_min (1 + margin), strictly feasible.
     #[serde(default = "default_margin")]
     margin: f64,
+    /// How the filter is designed: the Riccati recursion (5.9)–(5.10) with λ_min by bisection
+    /// (the default), or the design form of the SDP (4.7) (super::hinf_sdp), λ_min by one SDP.
+    #[serde(default)]
+    method: Method,
+    /// With method = "sdp": which of the filters with norm² ≤ λ (default the central one).
+    sdp_filter: Option<Choice>,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+enum Method {
+    #[default]
+    Riccati,
+    Sdp,
 }
 
 fn default_margin() -> f64 {
@@ -178,27 +195,60 @@ impl super::Family for HinfLambda {
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
         let key = format!("filters.{}", input.name);
         let s = check_setting(input, &key, &p.terminal_weight)?;
+        if p.method == Method::Riccati && p.sdp_filter.is_some() {
+            return Err(Error::invalid(format!("{key}.sdp_filter"), "applies only with method = \"sdp\""));
+        }
+        let mut diagnostics = serde_json::Map::new();
+        let mut min = || match p.method {
+            Method::Riccati => lambda_min(input.plant, &input.nominal, &s),
+            Method::Sdp => {
+                let d = hinf_sdp::minimize_lambda(input.plant, &input.nominal, &s)?;
+                diagnostics.insert("lambda_min_sdp_iterations".into(), d.iterations.into());
+                diagnostics.insert("lambda_min_sdp_seconds".into(), d.seconds.into());
+                Ok(d.lambda)
+            }
+        };
         let (lambda, lmin) = match p.lambda.clone() {
             Lambda::Value(l) if l > 0.0 && l.is_finite() => (l, None),
             Lambda::Keyword(k) if k == "min" => {
                 if p.margin.is_nan() || p.margin <= 0.0 {
                     return Err(Error::invalid(format!("{key}.margin"), "must be > 0"));
                 }
-                let lm = lambda_min(input.plant, &input.nominal, &s)?;
+                let lm = min()?;
                 (lm * (1.0 + p.margin), Some(lm))
             }
             _ => return Err(Error::invalid(format!("{key}.lambda"), "must be a positive number or \"min\"")),
         };
-        let gains = recursion(input.plant, &input.nominal, &s, lambda)
-            .map_err(|e| Error::design(input.name, format!("λ = {lambda} is too small: {e}")))?;
+        let gains = match p.method {
+            Method::Riccati => recursion(input.plant, &input.nominal, &s, lambda)
+                .map_err(|e| Error::design(input.name, format!("λ = {lambda} is too small: {e}")))?,
+            Method::Sdp => {
+                let choice = p.sdp_filter.unwrap_or(Choice::Central);
+                let d = hinf_sdp::design_at(input.plant, &input.nominal, &s, lambda, choice)
+                    .map_err(|e| Error::design(input.name, e.to_string()))?;
+                diagnostics.insert("design_sdp_iterations".into(), d.iterations.into());
+                diagnostics.insert("design_sdp_seconds".into(), d.seconds.into());
+                d.gains
+            }
+        };
         let realization = predictor(input.plant, &gains);
         let (norm2, _) = crate::analysis::hinf::norm(input.plant, &realization, &input.nominal, &s)?;
-        let mut diagnostics = serde_json::Map::new();
+        // The SDP's gains come from a solver's point: the per-trial bound λ is promised only if
+        // the norm², computed independently from the gains, is below it.
+        if norm2 > lambda {
+            return Err(Error::design(
+                input.name,
+                format!(
+                    "the SDP (4.7) filter's norm² {norm2} exceeds λ = {lambda}: the solver's point is not feasible enough; raise margin or λ"
+                ),
+            ));
+        }
         diagnostics.insert("lambda".into(), lambda.into());
         if let Some(lm) = lmin {
             diagnostics.insert("lambda_min".into(), lm.into());
         }
-        let (sdp, iterations, seconds) = crate::analysis::hinf::norm_sdp(input.plant, &realization, &input.nominal, &s)?;
+        let (sdp, iterations, seconds) =
+            crate::analysis::hinf::norm_sdp(input.plant, &realization, &input.nominal, &s)?;
         diagnostics.insert("hinf_norm_squared_sdp".into(), sdp.into());
         diagnostics.insert("sdp_iterations".into(), iterations.into());
         diagnostics.insert("sdp_seconds".into(), seconds.into());

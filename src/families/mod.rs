@@ -78,6 +78,9 @@ macro_rules! families {
     };
 }
 
+/// The design form of the SDP (4.7) that the `hinf` family's `method = "sdp"` uses.
+pub mod hinf_sdp;
+
 families! {
     kalman::Kalman,
     minimax::Minimax,

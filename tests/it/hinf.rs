@@ -134,35 +134,12 @@ fn no_trial_violates_the_guarantee() {
 /// random plants (noise split (5.5), random gains of the H∞-λ family).
 #[test]
 fn operator_and_sdp_norms_agree() {
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, StandardNormal};
     let exp = load(10);
     let s = Mat::identity(3, 3);
     let filters = pipeline::design_all(&exp).unwrap();
     let mut cases: Vec<(Experiment, filterbench::filter::realization::Realization)> =
         filters.iter().map(|f| (exp.clone(), f.design.realization.clone())).collect();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-    let mut g = |r: usize, c: usize, scale: f64| {
-        Mat::from_fn(r, c, |_, _| {
-            scale * {
-                let x: f64 = StandardNormal.sample(&mut rng);
-                x
-            }
-        })
-    };
-    for _ in 0..3 {
-        let mut e = exp.clone();
-        e.plant.horizon = 15;
-        e.plant.known_input.clear();
-        e.plant.a = filterbench::model::plant::Steps::constant(g(3, 3, 0.5));
-        let b = g(3, 3, 0.4);
-        e.plant.b = e.plant.b.map(|old| {
-            let mut new = old.clone();
-            new.view_mut((0, 0), (3, 3)).copy_from(&b);
-            new
-        });
-        e.plant.c = filterbench::model::plant::Steps::constant(g(1, 3, 1.0));
-        e.plant.cz = filterbench::model::plant::Steps::constant(g(2, 3, 1.0));
+    for e in random_plants(&exp, 11, 3, 0.5) {
         let l = lambda_min(&e.plant, &e.nominal, &s).unwrap();
         let r = predictor(&e.plant, &recursion(&e.plant, &e.nominal, &s, 1.7 * l).unwrap());
         cases.push((e, r));
@@ -173,6 +150,40 @@ fn operator_and_sdp_norms_agree() {
         assert!((a - b).abs() <= 1e-6 * a, "λmax {a} vs SDP {b}");
         eprintln!("norm² λmax {a:.9} SDP {b:.9} ({it} iterations, {secs:.3} s, N = {})", e.plant.horizon);
     }
+}
+
+/// `count` random plants on `base`'s dimensions (hinf_tradeoff: n = 3, w = (process 3,
+/// measurement 1)) that keep the noise split (5.5): N = 15, no known input, A with N(0, a_scale²)
+/// entries, B's process block 0.4 N(0, 1), C and Cz N(0, 1).
+use filterbench::model::plant::Steps;
+
+pub fn random_plants(base: &Experiment, seed: u64, count: usize, a_scale: f64) -> Vec<Experiment> {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut g = |r: usize, c: usize, scale: f64| {
+        Mat::from_fn(r, c, |_, _| {
+            let x: f64 = StandardNormal.sample(&mut rng);
+            scale * x
+        })
+    };
+    (0..count)
+        .map(|_| {
+            let mut e = base.clone();
+            e.plant.horizon = 15;
+            e.plant.known_input.clear();
+            e.plant.a = Steps::constant(g(3, 3, a_scale));
+            let b = g(3, 3, 0.4);
+            e.plant.b = e.plant.b.map(|old| {
+                let mut new = old.clone();
+                new.view_mut((0, 0), (3, 3)).copy_from(&b);
+                new
+            });
+            e.plant.c = Steps::constant(g(1, 3, 1.0));
+            e.plant.cz = Steps::constant(g(2, 3, 1.0));
+            e
+        })
+        .collect()
 }
 
 /// Theorem 3.1 for the generalized H2 filter: at every step the worst gain of e_z[t] over inputs up

@@ -14,6 +14,7 @@ mod exact_vs_mc;
 mod galerkin;
 mod generators;
 mod hinf;
+mod hinf_sdp;
 mod kalman;
 mod lemma1;
 mod markov_jump;
