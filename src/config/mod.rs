@@ -3,6 +3,7 @@
 //! Every key is documented in docs/experiment-files.md.
 
 mod modes;
+mod plant;
 mod resolve;
 mod schema;
 

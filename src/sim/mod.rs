@@ -2,4 +2,5 @@
 
 pub mod montecarlo;
 pub mod noise;
+mod plant_ops;
 pub mod stats;

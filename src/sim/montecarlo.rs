@@ -8,15 +8,13 @@
 
 use rayon::prelude::*;
 
-use std::borrow::Cow;
-
 use crate::analysis::exact::ErrorForm;
 use crate::filter::design::PerTrialBound;
 use crate::filter::realization::Realization;
 use crate::model::plant::Plant;
 use crate::numerics::linalg::{Mat, Vector};
-use crate::numerics::linop::LinOp;
 use crate::sim::noise::{NoiseSampler, TrialDraw, trial_rng};
+pub use crate::sim::plant_ops::PlantOps;
 use crate::sim::stats::Welford;
 
 /// Trials per block: the unit of parallel work and of the fixed reduction order.
@@ -105,113 +103,6 @@ impl Scenario<'_> {
     }
     fn form(&self, f: usize) -> Option<&ErrorForm> {
         self.forms.get(f).and_then(Option::as_ref)
-    }
-}
-
-/// The plant's matrices as [`LinOp`]s (sparse when large and mostly zero), each distinct matrix
-/// converted once: A_θ, B_θ per mode, C_θ[k], D_θ[k] per step and mode, Cz, Dz.
-pub struct PlantOps {
-    ops: Vec<LinOp>,
-    modes: usize,
-    a: Vec<usize>,
-    b: Vec<usize>,
-    c: Vec<usize>,
-    d: Vec<usize>,
-    cz: Vec<usize>,
-    dz: Vec<usize>,
-    /// Per multiplicative factor i, per step k: its matrices [A_i, B_i, C_i, D_i, Cz_i, Dz_i](k),
-    /// None where it does not enter (C_i, D_i also before the first measurement).
-    factors: Vec<Vec<[Option<usize>; 6]>>,
-}
-
-impl PlantOps {
-    pub fn new(plant: &Plant) -> Self {
-        let mut ops = Vec::new();
-        // One operator per distinct matrix: the plant's own by address, the zero matrices of
-        // steps without a measurement (made on request, so without a lasting address) by shape.
-        let mut seen = std::collections::HashMap::<(*const Mat, usize, usize), usize>::new();
-        let mut index = |m: Cow<'_, Mat>| {
-            let key = match &m {
-                Cow::Borrowed(b) => (*b as *const Mat, 0, 0),
-                Cow::Owned(z) => (std::ptr::null(), z.nrows(), z.ncols()),
-            };
-            *seen.entry(key).or_insert_with(|| {
-                ops.push(LinOp::new(&m));
-                ops.len() - 1
-            })
-        };
-        let modes = plant.n_modes();
-        let (mut a, mut b, mut c, mut d, mut cz, mut dz) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for k in 0..plant.steps() {
-            cz.push(index(Cow::Borrowed(plant.cz_at(k))));
-            dz.push(index(Cow::Borrowed(plant.dz_at(k))));
-            for s in 0..modes {
-                a.push(index(Cow::Borrowed(plant.a_of(k, s))));
-                b.push(index(Cow::Borrowed(plant.b_of(k, s))));
-                c.push(index(plant.c_of(k, s)));
-                d.push(index(plant.d_of(k, s)));
-            }
-        }
-        let factors = plant
-            .factors
-            .iter()
-            .map(|f| {
-                (0..plant.steps())
-                    .map(|k| {
-                        let measured = plant.measured(k);
-                        let mut at = |m: &Option<crate::model::plant::Steps>, used: bool| {
-                            m.as_ref().filter(|_| used).map(|s| index(Cow::Borrowed(s.at(k))))
-                        };
-                        [
-                            at(&f.a, true),
-                            at(&f.b, true),
-                            at(&f.c, measured),
-                            at(&f.d, measured),
-                            at(&f.cz, true),
-                            at(&f.dz, true),
-                        ]
-                    })
-                    .collect()
-            })
-            .collect();
-        PlantOps { ops, modes, a, b, c, d, cz, dz, factors }
-    }
-    /// Adds Σ_i ζ_i(k) M_i x to `out` for the matrix `which` (0 = A, …, 5 = Dz) of every factor.
-    #[inline]
-    fn add_factors<S>(
-        &self,
-        which: usize,
-        k: usize,
-        zeta: &Mat,
-        x: &nalgebra::Matrix<f64, nalgebra::Dyn, nalgebra::U1, S>,
-        out: &mut Vector,
-    ) where
-        S: nalgebra::storage::Storage<
-                f64,
-                nalgebra::Dyn,
-                nalgebra::U1,
-                RStride = nalgebra::U1,
-                CStride = nalgebra::Dyn,
-            >,
-    {
-        for (i, f) in self.factors.iter().enumerate() {
-            if let Some(op) = f[k][which] {
-                self.ops[op].apply(zeta[(i, k)], x, 1.0, out);
-            }
-        }
-    }
-    fn a(&self, k: usize, mode: usize) -> &LinOp {
-        &self.ops[self.a[k * self.modes + mode]]
-    }
-    fn b(&self, k: usize, mode: usize) -> &LinOp {
-        &self.ops[self.b[k * self.modes + mode]]
-    }
-    fn c(&self, k: usize, mode: usize) -> &LinOp {
-        &self.ops[self.c[k * self.modes + mode]]
-    }
-    fn d(&self, k: usize, mode: usize) -> &LinOp {
-        &self.ops[self.d[k * self.modes + mode]]
     }
 }
 
