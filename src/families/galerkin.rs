@@ -23,6 +23,7 @@
 use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput, Figures, GalerkinPoint};
+use crate::filter::realization::Realization;
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
 use crate::model::plant::{Covariances, Plant};
@@ -75,22 +76,28 @@ impl super::Family for Galerkin {
                 "W_m is singular, so α = 0 leaves the Kalman–Bucy gain P Cᵀ W_m⁻¹ undefined (seed 004 (5) is ill-posed): use α > 0",
             ));
         }
-        let (fplant, fcov) = projected(model, input.plant.horizon, p.basis, p.n, p.alpha);
-        let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
-        // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
-        // truth's r (2M): none at all.
-        for g in realization.gains.iter_mut().flatten() {
-            g.gf = Mat::zeros(2 * p.n, 0);
-        }
-        // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
-        // stable, so the plant-coordinate recursion resolves its error).
-        realization.tracks = None;
+        let realization = realization(model, input.plant.horizon, p.basis, p.n, p.alpha);
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("dt".into(), model.dt.into());
         let basis = format!("{:?}", p.basis).to_lowercase();
         let galerkin = Some(GalerkinPoint { basis, n: p.n, alpha: p.alpha });
         Ok(Design { figures: Figures { galerkin, ..Figures::default() }, ..Design::new(realization, diagnostics) })
     }
+}
+
+/// The Galerkin filter as a realization: the Kalman filter of the [`projected`] model.
+pub fn realization(model: &StringModel, horizon: usize, basis: Basis, n: usize, alpha: f64) -> Realization {
+    let (fplant, fcov) = projected(model, horizon, basis, n, alpha);
+    let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
+    // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
+    // truth's r (2M): none at all.
+    for g in realization.gains.iter_mut().flatten() {
+        g.gf = Mat::zeros(2 * n, 0);
+    }
+    // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
+    // stable, so the plant-coordinate recursion resolves its error).
+    realization.tracks = None;
+    realization
 }
 
 /// The projected, regularized, sampled model as a plant (state (x, ẋ), noise blocks `process` and

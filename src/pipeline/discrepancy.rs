@@ -17,7 +17,7 @@
 
 use crate::config::Experiment;
 use crate::error::{Error, Result};
-use crate::families::galerkin::{Basis, projected};
+use crate::families::galerkin::{Basis, projected, realization};
 use crate::model::shape::Shape;
 use crate::numerics::linalg::{Mat, Vector};
 use crate::numerics::riccati;
@@ -35,6 +35,9 @@ pub struct AlphaChoice {
     pub discrepancy: Vec<f64>,
     /// The chosen α.
     pub alpha: f64,
+    /// The exact error of the Galerkin filter at the chosen α against the truth at the nominal
+    /// covariances (summed over the horizon): what the rule costs, to set against the best α.
+    pub exact: f64,
 }
 
 /// One record y[0..N] (column k = y[k]) of the experiment's truth, from the pilot stream.
@@ -91,5 +94,12 @@ pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) ->
             (l0 + (l1 - l0) * (0.0 - d0) / (d1 - d0)).exp()
         }
     };
-    Ok(AlphaChoice { alphas: alphas.to_vec(), discrepancy: d, alpha })
+    let model = exp.string.as_ref().expect("checked above");
+    let exact = crate::analysis::exact::error(
+        &exp.plant,
+        &realization(model, exp.plant.horizon, basis, n, alpha),
+        &exp.nominal,
+    )
+    .total;
+    Ok(AlphaChoice { alphas: alphas.to_vec(), discrepancy: d, alpha, exact })
 }

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use filterbench::analysis::exact;
-use filterbench::families::galerkin::{Basis, projected};
+use filterbench::families::galerkin::{Basis, realization};
 use filterbench::numerics::linalg::{Mat, min_eigenvalue};
 
 use crate::common;
@@ -101,12 +101,7 @@ fn projections_on_windows_and_eigenfunctions() {
     assert_eq!(model.w_m, Mat::from_diagonal_element(8, 8, 1e-4), "W_m = diag(w_j) for j ≤ 8 = noise_rank");
     // The hat basis on 31 nodes against the eigenfunctions: their filters agree within 1 % (α = 1e-6).
     let err = |basis| {
-        let (fp, fc) = projected(model, eig.plant.horizon, basis, 31, 1e-6);
-        let mut r = filterbench::families::kalman::kalman(&fp, &fc, filterbench::model::plant::Pattern::Filtering);
-        for g in r.gains.iter_mut().flatten() {
-            g.gf = Mat::zeros(62, 0);
-        }
-        r.tracks = None;
+        let r = realization(model, eig.plant.horizon, basis, 31, 1e-6);
         exact::error(&eig.plant, &r, &eig.nominal).total
     };
     let (hat, eigen) = (err(Basis::Hat), err(Basis::Eigen));
@@ -126,18 +121,13 @@ fn discrepancy_rule_for_alpha() {
         let exp = common::variant(file, variant, 10);
         let model = exp.string.as_ref().unwrap();
         let err = |a: f64| {
-            let (fp, fc) = projected(model, exp.plant.horizon, Basis::Eigen, n, a);
-            let mut r = filterbench::families::kalman::kalman(&fp, &fc, filterbench::model::plant::Pattern::Filtering);
-            for g in r.gains.iter_mut().flatten() {
-                g.gf = Mat::zeros(2 * n, 0);
-            }
-            r.tracks = None;
+            let r = realization(model, exp.plant.horizon, Basis::Eigen, n, a);
             exact::error(&exp.plant, &r, &exp.nominal).total / exp.plant.steps() as f64
         };
         let c = filterbench::pipeline::discrepancy::choose_alpha(&exp, Basis::Eigen, n, &alphas).unwrap();
         let (best_alpha, best) =
             alphas.iter().map(|a| (*a, err(*a))).min_by(|x, y| x.1.total_cmp(&y.1)).expect("a grid");
-        let chosen = err(c.alpha);
+        let chosen = c.exact / exp.plant.steps() as f64;
         eprintln!(
             "{file} {variant} n = {n}: D = {:.3?}; α_dp = {:.2e} (error {chosen:.6}), best α = {best_alpha:.0e} (error {best:.6}), excess {:.2} %",
             c.discrepancy,
