@@ -8,7 +8,7 @@
 //! D(α) = (1/(N m)) Σ_k ν[k]ᵀ S_α[k]⁻¹ ν[k] is ≈ 1 when the model explains the record. A large α
 //! pretends the noise is larger than it is (D < 1); as α → 0 the model believes the noise-free
 //! combinations of W_m exactly while it misses the truth's modes beyond n, and D grows. Morozov's
-//! rule: take the α where D(α) = 1 (log-linear interpolation on the grid), the smallest α of the
+//! rule: take the α where D(α) = 1 (bracketed on the grid, then bisected on log α), the smallest α of the
 //! grid when D ≤ 1 throughout (the record cannot tell the regularization apart from none), the
 //! largest when D > 1 throughout.
 //!
@@ -21,6 +21,7 @@ use crate::families::galerkin::{Basis, projected, realization};
 use crate::model::shape::Shape;
 use crate::numerics::linalg::{Mat, Vector};
 use crate::numerics::riccati;
+use crate::numerics::solve::line::bisect;
 use crate::sim::noise::{NoiseSampler, trial_rng};
 
 /// The stream index of the pilot record: no scenario has it.
@@ -88,10 +89,10 @@ pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) ->
         None => *alphas.last().expect("a grid"),
         Some(0) => alphas[0],
         Some(i) => {
-            // log D is near-linear in log α between grid points.
-            let (l0, l1) = (alphas[i - 1].ln(), alphas[i].ln());
-            let (d0, d1) = (d[i - 1].ln(), d[i].ln());
-            (l0 + (l1 - l0) * (0.0 - d0) / (d1 - d0)).exp()
+            // D crosses 1 between two grid points: bisect on log10 α to 0.01 decades.
+            let d_above_one = |t: f64| discrepancy(exp, &y, basis, n, 10f64.powf(t)) > 1.0;
+            let (lo, hi) = bisect(alphas[i].log10(), alphas[i - 1].log10(), d_above_one, |a, b| b - a < 0.01, 40);
+            10f64.powf(0.5 * (lo + hi))
         }
     };
     let model = exp.string.as_ref().expect("checked above");
