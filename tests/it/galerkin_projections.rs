@@ -138,4 +138,3 @@ fn discrepancy_rule_for_alpha() {
         assert!(chosen <= 1.10 * best, "{file} {variant}: α_dp = {} is far from the best {best_alpha}", c.alpha);
     }
 }
-
