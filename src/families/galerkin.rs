@@ -5,7 +5,7 @@
 //! functions on n interior nodes (`basis = "hat"`: mass M_ij = (φ_i, φ_j), stiffness K_ij =
 //! c²(φ_i', φ_j'), F = M⁻¹K full, forcing covariance M⁻¹ V_φ M⁻¹ with V_φ,ij = Σ_k q_k (e_k, φ_i)(e_k, φ_j)).
 //! Then χ = (x, ẋ) obeys χ̇ = [[0, I], [−F, 0]] χ + ζ (the printed [[0, I], [F, 0]] drops the sign)
-//! and the sensors see C_ji = (1/h)∫_window_j φ_i.
+//! and the observation sees C_ji = (ρ_j, φ_i) (a window average (1/h)∫_window_j φ_i, or (e_j, φ_i)).
 //!
 //! **Regularization.** The measurement intensity W_m is replaced by S_α = W_m + α I (Tikhonov,
 //! seed 004 eq (6)); α = 0 with a singular W_m leaves the Kalman–Bucy gain P Cᵀ S⁻¹ undefined and is
@@ -23,11 +23,12 @@
 use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput, Figures, GalerkinPoint};
+use crate::filter::realization::Realization;
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
 use crate::model::plant::{Covariances, Plant};
 use crate::model::plant::Pattern;
-use crate::model::string::StringModel;
+use crate::model::string::{Observation, StringModel};
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Debug)]
 #[serde(rename_all = "snake_case")]
@@ -75,22 +76,28 @@ impl super::Family for Galerkin {
                 "W_m is singular, so α = 0 leaves the Kalman–Bucy gain P Cᵀ W_m⁻¹ undefined (seed 004 (5) is ill-posed): use α > 0",
             ));
         }
-        let (fplant, fcov) = projected(model, input.plant.horizon, p.basis, p.n, p.alpha);
-        let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
-        // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
-        // truth's r (2M): none at all.
-        for g in realization.gains.iter_mut().flatten() {
-            g.gf = Mat::zeros(2 * p.n, 0);
-        }
-        // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
-        // stable, so the plant-coordinate recursion resolves its error).
-        realization.tracks = None;
+        let realization = realization(model, input.plant.horizon, p.basis, p.n, p.alpha);
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("dt".into(), model.dt.into());
         let basis = format!("{:?}", p.basis).to_lowercase();
         let galerkin = Some(GalerkinPoint { basis, n: p.n, alpha: p.alpha });
         Ok(Design { figures: Figures { galerkin, ..Figures::default() }, ..Design::new(realization, diagnostics) })
     }
+}
+
+/// The Galerkin filter as a realization: the Kalman filter of the [`projected`] model.
+pub fn realization(model: &StringModel, horizon: usize, basis: Basis, n: usize, alpha: f64) -> Realization {
+    let (fplant, fcov) = projected(model, horizon, basis, n, alpha);
+    let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
+    // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
+    // truth's r (2M): none at all.
+    for g in realization.gains.iter_mut().flatten() {
+        g.gf = Mat::zeros(2 * n, 0);
+    }
+    // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
+    // stable, so the plant-coordinate recursion resolves its error).
+    realization.tracks = None;
+    realization
 }
 
 /// The projected, regularized, sampled model as a plant (state (x, ẋ), noise blocks `process` and
@@ -144,7 +151,7 @@ type Projection = (Mat, Mat, Mat, Mat, Mat, Mat);
 fn eigen(model: &StringModel, n: usize) -> Projection {
     let w2 = Mat::from_diagonal(&Vector::from_iterator(n, (1..=n).map(|i| model.omega(i).powi(2))));
     let q = Mat::from_diagonal(&Vector::from_iterator(n, (1..=n).map(|i| model.intensity(i))));
-    let sens = Mat::from_fn(model.n_sensors(), n, |j, i| model.sensor_average(i + 1, j));
+    let sens = Mat::from_fn(model.n_sensors(), n, |j, i| model.observe(i + 1, j));
     let out = Mat::from_fn(model.outputs.len(), n, |p, i| model.eigenfunction(i + 1, model.outputs[p]));
     let to_coefficients = Mat::from_fn(n, model.truth_modes, |i, k| (i == k) as u8 as f64);
     (Mat::identity(n, n), w2, q, sens, out, to_coefficients)
@@ -176,14 +183,18 @@ fn hat(model: &StringModel, n: usize) -> Projection {
         (1..=model.truth_modes).map(|k| model.intensity(k)),
     ));
     let forcing = symmetrize(&(proj.transpose() * q * &proj));
-    // (1/h_s)∫_window φ_i: φ_i is linear between its kinks, so the trapezoid rule on them is exact.
-    let sens = Mat::from_fn(model.n_sensors(), n, |j, i| {
-        let (lo, hi) = (model.sensors[j] - model.sensor_width / 2.0, model.sensors[j] + model.sensor_width / 2.0);
-        let mut knots = vec![lo, hi];
-        knots.extend([node(i) - h, node(i), node(i) + h].into_iter().filter(|x| *x > lo && *x < hi));
-        knots.sort_by(f64::total_cmp);
-        knots.windows(2).map(|w| (w[1] - w[0]) * (phi(i, w[0]) + phi(i, w[1])) / 2.0).sum::<f64>() / model.sensor_width
-    });
+    // (ρ_j, φ_i): for eigenfunction projections (e_j, φ_i); for windows (1/h_s)∫_window φ_i, where φ_i
+    // is linear between its kinks, so the trapezoid rule on them is exact.
+    let sens = match &model.observation {
+        Observation::Eigen(m) => proj.rows(0, *m).into_owned(),
+        Observation::Windows { centres, width } => Mat::from_fn(model.n_sensors(), n, |j, i| {
+            let (lo, hi) = (centres[j] - width / 2.0, centres[j] + width / 2.0);
+            let mut knots = vec![lo, hi];
+            knots.extend([node(i) - h, node(i), node(i) + h].into_iter().filter(|x| *x > lo && *x < hi));
+            knots.sort_by(f64::total_cmp);
+            knots.windows(2).map(|w| (w[1] - w[0]) * (phi(i, w[0]) + phi(i, w[1])) / 2.0).sum::<f64>() / width
+        }),
+    };
     let out = Mat::from_fn(model.outputs.len(), n, |p, i| phi(i, model.outputs[p]));
     let minv = mass.clone().try_inverse().expect("the mass matrix is positive definite");
     let to_coefficients = minv * proj.transpose();

@@ -1,5 +1,5 @@
 //! The vibrating string of seed 004 §§1–2 (SPEC §6): u_tt = c² u_ξξ + v on [0, L], fixed ends, at
-//! rest at t = 0, observed by m local averages of u with white measurement noise of a singular
+//! rest at t = 0 by default, observed by m local averages of u with white measurement noise of a singular
 //! intensity W_m, sampled every Δ.
 //!
 //! **Truth.** u = Σ_{k ≤ M} a_k(t) e_k(ξ), e_k = sqrt(2/L) sin(kπξ/L), and the forcing v is white in
@@ -14,13 +14,20 @@
 //! continuous white noise of intensity W_m = G Gᵀ: cov w[k] = W_m/Δ. With fewer noise sources than
 //! sensors (G is m × r, r < m) W_m is singular: the problem seed 004 regularizes.
 //!
+//! **Projections on a growing family** (seed 004 (3), Lemmas 2–3, Theorem 2: r_m = the projections of
+//! the observation on ρ₁ … ρ_m). `observation = "eigen"`: ρ_j = e_j; `"tiling"`: ρ_j = (m/L)·1 on
+//! [(j−1)L/m, jL/m], m windows tiling [0, L]. Then the noise is the projection of one operator 𝒲 =
+//! Σ_{k ≤ noise_rank} w0 k^{−noise_decay} e_k ⊗ e_k (degenerate: finitely many noisy modes), so
+//! W_m,ij = (𝒲 ρ_i, ρ_j) = Σ_k w_k (ρ_i, e_k)(ρ_j, e_k), of rank ≤ noise_rank: singular once m
+//! exceeds it, whatever m is — the family of seed 004's theorems, grown by `projections` = m.
+//!
 //! **Estimated.** z = u at chosen points ξ_p.
 
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::model::plant::{Covariances, Plant};
-use crate::numerics::linalg::{Mat, Vector, block_diag, from_rows};
+use crate::numerics::linalg::{Mat, Vector, block_diag, from_rows, symmetrize};
 
 /// The `[string]` table of an experiment file.
 #[derive(Deserialize, Clone, Debug)]
@@ -38,12 +45,24 @@ pub struct StringFile {
     pub forcing_intensity: f64,
     #[serde(default = "four")]
     pub forcing_decay: f64,
+    /// What the observation is projected on (module docs): `windows` (default: `sensors`,
+    /// `sensor_width`, `noise_sources`), `eigen` or `tiling` (`projections`, `noise_*`).
+    #[serde(default)]
+    pub observation: ObservationKind,
     /// Centres s_j of the sensors' averaging windows.
+    #[serde(default)]
     pub sensors: Vec<f64>,
     /// Width h of every window.
-    pub sensor_width: f64,
+    pub sensor_width: Option<f64>,
     /// G (m × r): W_m = G Gᵀ.
+    #[serde(default)]
     pub noise_sources: Vec<Vec<f64>>,
+    /// m, the number of projections ρ₁ … ρ_m (`eigen`, `tiling`).
+    pub projections: Option<usize>,
+    /// w0 of 𝒲 = Σ_{k ≤ noise_rank} w0 k^{−noise_decay} e_k ⊗ e_k (`eigen`, `tiling`).
+    pub noise_intensity: Option<f64>,
+    pub noise_decay: Option<f64>,
+    pub noise_rank: Option<usize>,
     /// Points ξ_p where u is estimated.
     pub outputs: Vec<f64>,
     /// The random initial state (seed 004's covariance operators 𝒰₀ of u(0) and 𝒰₁ of u_t(0)),
@@ -55,6 +74,38 @@ pub struct StringFile {
     pub initial_velocity: f64,
     #[serde(default = "four")]
     pub initial_decay: f64,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Debug, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ObservationKind {
+    #[default]
+    Windows,
+    Eigen,
+    Tiling,
+}
+
+/// The functions ρ_j the observation is projected on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Observation {
+    /// Averages over windows of width `width` centred at `centres` (ρ_j = 1/width on the window).
+    Windows { centres: Vec<f64>, width: f64 },
+    /// ρ_j = e_j, j = 1 … m.
+    Eigen(usize),
+}
+
+impl Observation {
+    /// (ρ_j, e_k) on [0, `length`]: the window average (1/h)∫ e_k, or δ_jk for eigenfunctions.
+    pub fn inner(&self, length: f64, k: usize, j: usize) -> f64 {
+        match self {
+            Observation::Eigen(_) => (k == j + 1) as u8 as f64,
+            Observation::Windows { centres, width } => {
+                let a = k as f64 * std::f64::consts::PI / length;
+                let (lo, hi) = (centres[j] - width / 2.0, centres[j] + width / 2.0);
+                (2.0 / length).sqrt() * ((a * lo).cos() - (a * hi).cos()) / (a * width)
+            }
+        }
+    }
 }
 
 fn one() -> f64 {
@@ -73,8 +124,7 @@ pub struct StringModel {
     pub truth_modes: usize,
     pub forcing_intensity: f64,
     pub forcing_decay: f64,
-    pub sensors: Vec<f64>,
-    pub sensor_width: f64,
+    pub observation: Observation,
     /// W_m, the measurement noise intensity (m × m, possibly singular).
     pub w_m: Mat,
     pub outputs: Vec<f64>,
@@ -93,7 +143,6 @@ impl StringModel {
         positive("speed", f.speed)?;
         positive("dt", f.dt)?;
         positive("duration", f.duration)?;
-        positive("sensor_width", f.sensor_width)?;
         if !(f.forcing_intensity >= 0.0 && f.forcing_decay.is_finite()) {
             return Err(Error::invalid(key("forcing_intensity"), "must be ≥ 0 (and forcing_decay finite)"));
         }
@@ -115,21 +164,7 @@ impl StringModel {
             return Err(Error::invalid(key("truth_modes"), "at least one mode"));
         }
         let l = f.length;
-        if f.sensors.is_empty() {
-            return Err(Error::invalid(key("sensors"), "at least one sensor"));
-        }
-        for (j, s) in f.sensors.iter().enumerate() {
-            if !(s - f.sensor_width / 2.0 >= 0.0 && s + f.sensor_width / 2.0 <= l) {
-                return Err(Error::invalid(
-                    format!("string.sensors[{j}]"),
-                    format!(
-                        "the window [{}, {}] leaves the string [0, {l}]",
-                        s - f.sensor_width / 2.0,
-                        s + f.sensor_width / 2.0
-                    ),
-                ));
-            }
-        }
+        let (observation, w_m) = observation(f)?;
         for (p, x) in f.outputs.iter().enumerate() {
             if !(*x >= 0.0 && *x <= l) {
                 return Err(Error::invalid(format!("string.outputs[{p}]"), format!("{x} is outside [0, {l}]")));
@@ -138,9 +173,6 @@ impl StringModel {
         if f.outputs.is_empty() {
             return Err(Error::invalid(key("outputs"), "at least one point"));
         }
-        let m = f.sensors.len();
-        let cols = f.noise_sources.first().map_or(0, Vec::len);
-        let g = from_rows(&key("noise_sources"), &f.noise_sources, Some((m, cols)))?;
         Ok(StringModel {
             length: l,
             speed: f.speed,
@@ -148,9 +180,8 @@ impl StringModel {
             truth_modes: f.truth_modes,
             forcing_intensity: f.forcing_intensity,
             forcing_decay: f.forcing_decay,
-            sensors: f.sensors.clone(),
-            sensor_width: f.sensor_width,
-            w_m: &g * g.transpose(),
+            observation,
+            w_m,
             outputs: f.outputs.clone(),
             initial_displacement: f.initial_displacement,
             initial_velocity: f.initial_velocity,
@@ -175,14 +206,16 @@ impl StringModel {
     pub fn eigenfunction(&self, k: usize, xi: f64) -> f64 {
         (2.0 / self.length).sqrt() * (k as f64 * std::f64::consts::PI * xi / self.length).sin()
     }
-    /// (1/h)∫ e_k over sensor j's window.
-    pub fn sensor_average(&self, k: usize, j: usize) -> f64 {
-        let a = k as f64 * std::f64::consts::PI / self.length;
-        let (lo, hi) = (self.sensors[j] - self.sensor_width / 2.0, self.sensors[j] + self.sensor_width / 2.0);
-        (2.0 / self.length).sqrt() * ((a * lo).cos() - (a * hi).cos()) / (a * self.sensor_width)
+    /// (ρ_j, e_k): see [`Observation::inner`].
+    pub fn observe(&self, k: usize, j: usize) -> f64 {
+        self.observation.inner(self.length, k, j)
     }
+    /// m, the number of observed projections.
     pub fn n_sensors(&self) -> usize {
-        self.sensors.len()
+        match &self.observation {
+            Observation::Eigen(m) => *m,
+            Observation::Windows { centres, .. } => centres.len(),
+        }
     }
 
     /// The truth (M modes) as a plant on the horizon N = round(duration/Δ), with its covariances:
@@ -210,7 +243,7 @@ impl StringModel {
         }
         let a = block_diag(&blocks_a.iter().collect::<Vec<_>>());
         let q = block_diag(&blocks_q.iter().collect::<Vec<_>>());
-        let c = Mat::from_fn(m, nx, |j, i| if i % 2 == 0 { self.sensor_average(i / 2 + 1, j) } else { 0.0 });
+        let c = Mat::from_fn(m, nx, |j, i| if i % 2 == 0 { self.observe(i / 2 + 1, j) } else { 0.0 });
         let cz =
             Mat::from_fn(p, nx, |o, i| if i % 2 == 0 { self.eigenfunction(i / 2 + 1, self.outputs[o]) } else { 0.0 });
         let horizon = ((duration / dt).round() as usize).max(1);
@@ -223,6 +256,73 @@ impl StringModel {
         ));
         sampled(horizon, a, c, cz, q, &self.w_m / dt, x0)
     }
+}
+
+/// The projections ρ_j and W_m of a `[string]` table (module docs), each error naming its key.
+fn observation(f: &StringFile) -> Result<(Observation, Mat)> {
+    let key = |k: &str| format!("string.{k}");
+    let l = f.length;
+    let projected = [("projections", f.projections.is_some()), ("noise_intensity", f.noise_intensity.is_some())]
+        .into_iter()
+        .chain([("noise_decay", f.noise_decay.is_some()), ("noise_rank", f.noise_rank.is_some())]);
+    let windowed = [("sensors", !f.sensors.is_empty()), ("sensor_width", f.sensor_width.is_some())]
+        .into_iter()
+        .chain([("noise_sources", !f.noise_sources.is_empty())]);
+    let (stray, kind) = if f.observation == ObservationKind::Windows {
+        (projected.collect::<Vec<_>>(), "\"eigen\" or \"tiling\"")
+    } else {
+        (windowed.collect::<Vec<_>>(), "\"windows\"")
+    };
+    if let Some((k, _)) = stray.iter().find(|(_, given)| *given) {
+        return Err(Error::invalid(key(k), format!("only with observation = {kind}")));
+    }
+    if f.observation == ObservationKind::Windows {
+        let width = f.sensor_width.ok_or_else(|| Error::invalid(key("sensor_width"), "missing"))?;
+        if !(width > 0.0 && width.is_finite()) {
+            return Err(Error::invalid(key("sensor_width"), format!("must be > 0, got {width}")));
+        }
+        if f.sensors.is_empty() {
+            return Err(Error::invalid(key("sensors"), "at least one sensor"));
+        }
+        for (j, s) in f.sensors.iter().enumerate() {
+            if !(s - width / 2.0 >= 0.0 && s + width / 2.0 <= l) {
+                return Err(Error::invalid(
+                    format!("string.sensors[{j}]"),
+                    format!("the window [{}, {}] leaves the string [0, {l}]", s - width / 2.0, s + width / 2.0),
+                ));
+            }
+        }
+        let cols = f.noise_sources.first().map_or(0, Vec::len);
+        let g = from_rows(&key("noise_sources"), &f.noise_sources, Some((f.sensors.len(), cols)))?;
+        return Ok((Observation::Windows { centres: f.sensors.clone(), width }, &g * g.transpose()));
+    }
+    let m = f.projections.ok_or_else(|| Error::invalid(key("projections"), "missing: the number m of projections"))?;
+    if m == 0 {
+        return Err(Error::invalid(key("projections"), "at least one projection"));
+    }
+    if f.observation == ObservationKind::Eigen && m > f.truth_modes {
+        return Err(Error::invalid(
+            key("projections"),
+            format!("{m} eigenfunction projections but the truth has only {} modes", f.truth_modes),
+        ));
+    }
+    let w0 = f.noise_intensity.ok_or_else(|| Error::invalid(key("noise_intensity"), "missing"))?;
+    let decay = f.noise_decay.unwrap_or(0.0);
+    let rank =
+        f.noise_rank.ok_or_else(|| Error::invalid(key("noise_rank"), "missing: the number of noisy modes of 𝒲"))?;
+    if !(w0 >= 0.0 && w0.is_finite() && decay.is_finite()) {
+        return Err(Error::invalid(key("noise_intensity"), "must be ≥ 0 (and noise_decay finite)"));
+    }
+    let obs = match f.observation {
+        ObservationKind::Eigen => Observation::Eigen(m),
+        _ => Observation::Windows {
+            centres: (0..m).map(|j| (j as f64 + 0.5) * l / m as f64).collect(),
+            width: l / m as f64,
+        },
+    };
+    // R_jk = (ρ_j, e_k) for the noisy modes k ≤ rank, W_m = R diag(w_k) Rᵀ.
+    let r = Mat::from_fn(m, rank, |j, k| obs.inner(l, k + 1, j) * (w0 * ((k + 1) as f64).powf(-decay)).sqrt());
+    Ok((obs, symmetrize(&(&r * r.transpose()))))
 }
 
 /// x[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q), w_m ~ (0, R) and x0 ~ (0, X0)

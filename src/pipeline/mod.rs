@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod budget;
 pub mod design;
+pub mod discrepancy;
 pub mod evaluate;
 pub mod outcome;
 pub mod scenarios;

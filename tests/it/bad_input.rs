@@ -241,4 +241,20 @@ fn bad_string_and_galerkin_parameters() {
     fails_cleanly(&base.patch("sensors = [0.142857,", "sensors = [1.2,"), &["string.sensors[0]", "leaves the string"]);
     fails_cleanly(&base.patch("outputs = [0.1,", "outputs = [-0.1,"), &["string.outputs[0]", "outside"]);
     fails_cleanly(&base.patch("dt = 0.0025", "dt = 0.0"), &["string.dt", "> 0"]);
+    fails_cleanly(
+        &base.patch("sensor_width = 0.05", "sensor_width = 0.05\nprojections = 4"),
+        &["string.projections", "only with observation"],
+    );
+    let tiling = crate::common::text("galerkin_projections").patch("truth_modes = 32", "truth_modes = 8");
+    fails_cleanly(
+        &tiling.patch("noise_rank = 8", "noise_rank = 8\nsensor_width = 0.1"),
+        &["string.sensor_width", "only with observation = \"windows\""],
+    );
+    fails_cleanly(&tiling.patch("projections = 8\n", ""), &["string.projections", "missing"]);
+    fails_cleanly(
+        &tiling
+            .patch("observation = \"tiling\"", "observation = \"eigen\"")
+            .patch("truth_modes = 8", "truth_modes = 4"),
+        &["string.projections", "only 4 modes"],
+    );
 }

@@ -12,6 +12,7 @@ mod disturbance;
 mod end_to_end;
 mod exact_vs_mc;
 mod galerkin;
+mod galerkin_projections;
 mod generators;
 mod hinf;
 mod hinf_sdp;

@@ -1,0 +1,106 @@
+//! A data-driven choice of seed 004's regularization parameter α (the seed's references [1–3, 5]:
+//! Tikhonov's α chosen from the data, not from the unknown truth): the discrepancy principle on the
+//! innovations.
+//!
+//! A user has one record y[0..N] and the projected, regularized model of
+//! [`crate::families::galerkin::projected`]. Its Kalman filter predicts the innovations
+//! ν[k] = y[k] − C x̂[k|k−1] to have covariance S_α[k] = C P̄[k] Cᵀ + S_α/Δ, so the discrepancy
+//! D(α) = (1/(N m)) Σ_k ν[k]ᵀ S_α[k]⁻¹ ν[k] is ≈ 1 when the model explains the record. A large α
+//! pretends the noise is larger than it is (D < 1); as α → 0 the model believes the noise-free
+//! combinations of W_m exactly while it misses the truth's modes beyond n, and D grows. Morozov's
+//! rule: take the α where D(α) = 1 (bracketed on the grid, then bisected on log α), the smallest α of the
+//! grid when D ≤ 1 throughout (the record cannot tell the regularization apart from none), the
+//! largest when D > 1 throughout.
+//!
+//! The record is one draw of the truth (Gaussian, the nominal covariances) from its own random
+//! stream, independent of every Monte Carlo trial.
+
+use crate::config::Experiment;
+use crate::error::{Error, Result};
+use crate::families::galerkin::{Basis, projected, realization};
+use crate::model::shape::Shape;
+use crate::numerics::linalg::{Mat, Vector};
+use crate::numerics::riccati;
+use crate::numerics::solve::line::bisect;
+use crate::sim::noise::{NoiseSampler, trial_rng};
+
+/// The stream index of the pilot record: no scenario has it.
+const PILOT_STREAM: usize = 1 << 40;
+
+/// The rule's outcome on a grid of α.
+#[derive(Clone, Debug)]
+pub struct AlphaChoice {
+    /// The grid, as given.
+    pub alphas: Vec<f64>,
+    /// D(α) on the grid.
+    pub discrepancy: Vec<f64>,
+    /// The chosen α.
+    pub alpha: f64,
+    /// The exact error of the Galerkin filter at the chosen α against the truth at the nominal
+    /// covariances (summed over the horizon): what the rule costs, to set against the best α.
+    pub exact: f64,
+}
+
+/// One record y[0..N] (column k = y[k]) of the experiment's truth, from the pilot stream.
+pub fn pilot_record(exp: &Experiment) -> Mat {
+    let plant = &exp.plant;
+    let sampler = NoiseSampler::new(plant, &exp.nominal, &Shape::Gaussian);
+    let mut draw = sampler.workspace();
+    sampler.draw_into(&mut trial_rng(exp.seed, PILOT_STREAM, 0), &mut draw);
+    let mut x = draw.x0.clone();
+    let mut y = Mat::zeros(plant.ny(), plant.steps());
+    for k in 0..plant.steps() {
+        let w = draw.w.column(k);
+        y.set_column(k, &(&*plant.c_at(k) * &x + &*plant.d_at(k) * w));
+        x = &plant.a * &x + &plant.b * w;
+    }
+    y
+}
+
+/// D(α) of the `basis`, `n` Galerkin filter on the record `y` (module docs).
+pub fn discrepancy(exp: &Experiment, y: &Mat, basis: Basis, n: usize, alpha: f64) -> f64 {
+    let model = exp.string.as_ref().expect("a string experiment");
+    let (fp, fcov) = projected(model, exp.plant.horizon, basis, n, alpha);
+    let w = fcov.w();
+    let (bwb, dwd, bwd) = (&fp.b * &w * fp.b.transpose(), &fp.d * &w * fp.d.transpose(), &fp.b * &w * fp.d.transpose());
+    let (mut pbar, mut s) = (fcov.x0().clone(), Vector::zeros(fp.nx()));
+    let mut sum = 0.0;
+    for k in 0..y.ncols() {
+        let inn = riccati::innovation(&fp.a, &fp.c, &pbar, &dwd, &bwd);
+        let nu = y.column(k) - &fp.c * &s;
+        sum += (nu.transpose() * &inn.s_inv * &nu)[(0, 0)];
+        s = &fp.a * &s + &inn.k * &nu;
+        pbar = crate::numerics::linalg::symmetrize(&riccati::propagate(&fp.a, &pbar, &bwb, &inn.k, &inn.s));
+    }
+    sum / (y.ncols() * y.nrows()) as f64
+}
+
+/// Morozov's rule on the grid `alphas` (module docs) for the `basis`, `n` Galerkin filter.
+pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) -> Result<AlphaChoice> {
+    if exp.string.is_none() {
+        return Err(Error::invalid("string", "the discrepancy rule for α needs a [string] plant (seed 004)"));
+    }
+    if alphas.iter().any(|a| !(*a > 0.0 && a.is_finite())) || alphas.windows(2).any(|w| w[1] >= w[0]) {
+        return Err(Error::invalid("alphas", "a decreasing grid of α > 0"));
+    }
+    let y = pilot_record(exp);
+    let d: Vec<f64> = alphas.iter().map(|a| discrepancy(exp, &y, basis, n, *a)).collect();
+    let alpha = match d.iter().position(|v| *v > 1.0) {
+        None => *alphas.last().expect("a grid"),
+        Some(0) => alphas[0],
+        Some(i) => {
+            // D crosses 1 between two grid points: bisect on log10 α to 0.01 decades.
+            let d_above_one = |t: f64| discrepancy(exp, &y, basis, n, 10f64.powf(t)) > 1.0;
+            let (lo, hi) = bisect(alphas[i].log10(), alphas[i - 1].log10(), d_above_one, |a, b| b - a < 0.01, 40);
+            10f64.powf(0.5 * (lo + hi))
+        }
+    };
+    let model = exp.string.as_ref().expect("checked above");
+    let exact = crate::analysis::exact::error(
+        &exp.plant,
+        &realization(model, exp.plant.horizon, basis, n, alpha),
+        &exp.nominal,
+    )
+    .total;
+    Ok(AlphaChoice { alphas: alphas.to_vec(), discrepancy: d, alpha, exact })
+}
