@@ -52,7 +52,7 @@ pub fn pilot_record(exp: &Experiment) -> Mat {
     for k in 0..plant.steps() {
         let w = draw.w.column(k);
         y.set_column(k, &(&*plant.c_at(k) * &x + &*plant.d_at(k) * w));
-        x = &plant.a * &x + &plant.b * w;
+        x = plant.a_at(k) * &x + plant.b_at(k) * w;
     }
     y
 }
@@ -62,15 +62,16 @@ pub fn discrepancy(exp: &Experiment, y: &Mat, basis: Basis, n: usize, alpha: f64
     let model = exp.string.as_ref().expect("a string experiment");
     let (fp, fcov) = projected(model, exp.plant.horizon, basis, n, alpha);
     let w = fcov.w();
-    let (bwb, dwd, bwd) = (&fp.b * &w * fp.b.transpose(), &fp.d * &w * fp.d.transpose(), &fp.b * &w * fp.d.transpose());
     let (mut pbar, mut s) = (fcov.x0().clone(), Vector::zeros(fp.nx()));
     let mut sum = 0.0;
     for k in 0..y.ncols() {
-        let inn = riccati::innovation(&fp.a, &fp.c, &pbar, &dwd, &bwd);
-        let nu = y.column(k) - &fp.c * &s;
+        let (a, b, c, d) = (fp.a_at(k), fp.b_at(k), fp.c.at(k), fp.d.at(k));
+        let (bwb, dwd, bwd) = (b * &w * b.transpose(), d * &w * d.transpose(), b * &w * d.transpose());
+        let inn = riccati::innovation(a, c, &pbar, &dwd, &bwd);
+        let nu = y.column(k) - c * &s;
         sum += (nu.transpose() * &inn.s_inv * &nu)[(0, 0)];
-        s = &fp.a * &s + &inn.k * &nu;
-        pbar = crate::numerics::linalg::symmetrize(&riccati::propagate(&fp.a, &pbar, &bwb, &inn.k, &inn.s));
+        s = a * &s + &inn.k * &nu;
+        pbar = crate::numerics::linalg::symmetrize(&riccati::propagate(a, &pbar, &bwb, &inn.k, &inn.s));
     }
     sum / (y.ncols() * y.nrows()) as f64
 }

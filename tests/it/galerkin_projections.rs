@@ -96,7 +96,7 @@ fn projections_on_windows_and_eigenfunctions() {
     let text = common::text("galerkin_projections").replace("observation = \"tiling\"", "observation = \"eigen\"");
     let eig = filterbench::config::parse("eigen_projections", "eigen_projections.toml", &text).unwrap();
     let model = eig.string.as_ref().unwrap();
-    let c = eig.plant.c.clone();
+    let c = eig.plant.c.at(0).clone();
     assert_eq!(c, Mat::from_fn(8, 64, |j, i| (i == 2 * j) as u8 as f64), "r_j sees a_j alone");
     assert_eq!(model.w_m, Mat::from_diagonal_element(8, 8, 1e-4), "W_m = diag(w_j) for j ≤ 8 = noise_rank");
     // The hat basis on 31 nodes against the eigenfunctions: their filters agree within 1 % (α = 1e-6).
