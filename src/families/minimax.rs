@@ -161,9 +161,8 @@ pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> 
     }
     let mut full = Mat::zeros(cols, cols);
     full.view_mut((0, 0), (nx, nx)).copy_from(k.x0());
-    let w = k.w();
     for n in 0..plant.steps() {
-        full.view_mut((nx + n * nw, nx + n * nw), (nw, nw)).copy_from(&w);
+        full.view_mut((nx + n * nw, nx + n * nw), (nw, nw)).copy_from(&k.w_at(n));
     }
     let (eig, _) = crate::numerics::linalg::sym_eigen(&(&m * full * m.transpose()))?;
     let top = eig.iter().cloned().fold(0.0, f64::max);
@@ -182,7 +181,7 @@ pub fn dual_gradient(plant: &Plant, pattern: Pattern, k: &Covariances) -> Vec<Ma
 }
 
 fn along(k: &Covariances, dir: &[Mat], tau: f64) -> Covariances {
-    Covariances { blocks: k.blocks.iter().zip(dir).map(|(a, d)| a + d * tau).collect() }
+    Covariances { blocks: k.blocks.iter().zip(dir).map(|(a, d)| a + d * tau).collect(), varying: k.varying.clone() }
 }
 
 /// Solves the dual problem (14) over the sets (blocks without a set stay as in `start`).

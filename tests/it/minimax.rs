@@ -47,7 +47,7 @@ fn example3_reproduces_the_printed_numbers() {
     assert!((i2 - 0.6742).abs() <= 1e-4, "I/N at the second corner: {i2}");
     let tau = t[1].step;
     let along =
-        |tau: f64| Covariances { blocks: k1.blocks.iter().zip(&k2.blocks).map(|(a, b)| a + (b - a) * tau).collect() };
+        |tau: f64| Covariances::new(k1.blocks.iter().zip(&k2.blocks).map(|(a, b)| a + (b - a) * tau).collect());
     let best = dual_value(pl, pat, &along(tau));
     let printed = dual_value(pl, pat, &along(0.578));
     assert!(
@@ -185,8 +185,10 @@ fn largest_element_of_loewner_intervals() {
     assert!(gap.abs() <= 1e-7 * sol.value, "gap at the largest element {gap}");
 }
 
-/// The scalar recursion of seed 000's Examples 1 and 5: P̄n = a² P̂n−1 + r_u + b² D⁰ε,
+/// The scalar recursion of seed 000's Examples 1 and 5: P̄n = a² P̂n−1 + r_u(n) + b² D⁰ε,
 /// k̂n = P̄n c / (c² P̄n + r_v + d² D⁰w), P̂n = (1 − k̂n c) P̄n for n = 1..N; returns (k̂n, P̂n).
+/// r_u(n) is the surrogate variance of u_n (eq (39): r_u W_n⁻¹, step-dependent with time-varying
+/// weights).
 #[allow(clippy::too_many_arguments)]
 fn scalar_minimax(
     a: f64,
@@ -195,15 +197,15 @@ fn scalar_minimax(
     d: f64,
     de: f64,
     dw: f64,
-    ru: f64,
+    ru: impl Fn(usize) -> f64,
     rv: f64,
     p0: f64,
     n: usize,
 ) -> Vec<(f64, f64)> {
     let mut p = p0;
     (1..=n)
-        .map(|_| {
-            let pbar = a * a * p + ru + b * b * de;
+        .map(|n| {
+            let pbar = a * a * p + ru(n) + b * b * de;
             let k = pbar * c / (c * c * pbar + rv + d * d * dw);
             p = (1.0 - k * c) * pbar;
             (k, p)
@@ -226,7 +228,7 @@ fn examples_1_and_5_in_closed_form() {
         assert!((de - 0.5).abs() < 1e-12 && (dw - 1.0).abs() < 1e-12, "{name}: K̂ = ({de}, {dw}), the upper bounds");
         let pl = &exp.plant;
         let (a, b, c, dd) = (pl.a[(0, 0)], pl.b[(0, 0)], pl.c[(0, 0)], pl.d[(0, 1)]);
-        let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, ru, rv, p0, pl.horizon);
+        let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, |_| ru, rv, p0, pl.horizon);
         for (n, (k, _)) in closed.iter().enumerate() {
             let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
             assert!((ours - k).abs() <= 1e-9 * k.abs(), "{name}: k̂{} = {ours} vs closed form {k}", n + 1);
@@ -293,7 +295,31 @@ fn theorem_1_2b_condition_is_checked() {
         } else {
             assert!(which.starts_with("b:") && rz > 0.0, "{name}: {which}, λmin(R_z)/λmax = {rz}");
         }
-        let zero = Covariances { blocks: exp.nominal.blocks.iter().map(|b| b * 0.0).collect() };
+        let zero = Covariances::new(exp.nominal.blocks.iter().map(|b| b * 0.0).collect());
         assert_eq!(observation_covariance_min_eigenvalue(&exp.plant, &zero).unwrap(), 0.0, "{name}: no noise, R_z = 0");
     }
+}
+
+/// Section 5 with time-varying weights and per-step bounds (experiments/minimax_time_varying.toml),
+/// in closed form (1e-9): the surrogate variance of u_n = w_u[n − 1] is s / W_(n−1) with
+/// s = min(r, Σ r_k), the gains are the scalar recursion's and the guarantee is Σ P̂n.
+#[test]
+fn time_varying_weights_in_closed_form() {
+    let exp = load("minimax_time_varying", 10);
+    let u = exp.disturbances.iter().flatten().next().unwrap();
+    let s = u.energy.min(u.step_energy.as_ref().unwrap().iter().sum());
+    assert!(u.varies() && (u.surrogate_scale() - s).abs() == 0.0);
+    let filters = pipeline::design_all(&exp).unwrap();
+    let d = &filters[exp.filter_index("minimax").unwrap()].design;
+    let pl = &exp.plant;
+    let (a, b, c, dd) = (pl.a[(0, 0)], pl.b[(0, 0)], pl.c[(0, 0)], pl.d[(0, 1)]);
+    let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, |n| s / u.weights[n - 1][(0, 0)], 0.0, 0.0, pl.horizon);
+    for (n, (k, _)) in closed.iter().enumerate() {
+        let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
+        assert!((ours - k).abs() <= 1e-9 * k.abs(), "k̂{} = {ours} vs closed form {k}", n + 1);
+    }
+    let bound: f64 = closed.iter().map(|(_, p)| p).sum();
+    let g = d.guarantee.as_ref().unwrap().total;
+    assert!((g - bound).abs() <= 1e-9 * bound, "guarantee {g} vs Σ P̂n = {bound}");
+    eprintln!("minimax_time_varying: s = {s}, Σ P̂n = {bound:.10}, k̂1 = {:.10}, k̂N = {:.10}", closed[0].0, closed.last().unwrap().0);
 }
