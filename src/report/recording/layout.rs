@@ -179,19 +179,37 @@ fn string_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Optio
     Ok(Some(l.container(ContainerKind::Horizontal, "string and error surface", &views)?))
 }
 
-/// Iterative designs: the objective and the gap per iteration.
+/// Iterative designs: the objective and the gap per iteration and, below, the objective along each
+/// kept line search (seed 000 Fig. 1), one view per search s with every filter that has it.
 fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
     let mut obj = Vec::new();
     let mut gap = Vec::new();
+    let mut searches: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
     for (spec, d) in run.exp.filters.iter().zip(&run.out.filters) {
         if !d.design.trace.is_empty() {
             obj.push(plus(&run.at(&["design", &spec.name, "objective"])));
             gap.push(plus(&run.at(&["design", &spec.name, "gap"])));
         }
+        for ls in &d.design.line_searches {
+            let leaf = super::line_search_leaf(ls.iteration);
+            searches.entry(ls.iteration).or_default().push(plus(&run.at(&["design", &spec.name, &leaf])));
+        }
     }
-    let views = [
+    let top = vec![
         l.view(ViewKind::BarChart, "design: objective per iteration (minimax: I(K(s)))", &obj)?,
         l.view(ViewKind::BarChart, "design: gap per iteration (minimax: δ(s))", &gap)?,
     ];
-    l.container(ContainerKind::Horizontal, "design", &views)
+    if searches.is_empty() {
+        return l.container(ContainerKind::Horizontal, "design", &top);
+    }
+    let top = l.container(ContainerKind::Horizontal, "design: iterations", &top)?;
+    let lines = searches
+        .iter()
+        .map(|(s, contents)| {
+            let fig = if *s == 1 { "Fig. 1 of seed 000: " } else { "" };
+            l.view(ViewKind::BarChart, &format!("{fig}I/N along line search s = {s}, against τ ∈ [0, 1]"), contents)
+        })
+        .collect::<BpResult<Vec<_>>>()?;
+    let bottom = l.container(ContainerKind::Horizontal, "design: line searches", &lines)?;
+    l.container(ContainerKind::Vertical, "design", &[top, bottom])
 }
