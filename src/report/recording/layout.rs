@@ -184,7 +184,8 @@ fn string_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Optio
 fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
     let mut obj = Vec::new();
     let mut gap = Vec::new();
-    let mut searches: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
+    // Per search s: the entities, and the start values I(K(s))/N of the filters that have it.
+    let mut searches: std::collections::BTreeMap<usize, (Vec<String>, Vec<String>)> = Default::default();
     for (spec, d) in run.exp.filters.iter().zip(&run.out.filters) {
         if !d.design.trace.is_empty() {
             obj.push(plus(&run.at(&["design", &spec.name, "objective"])));
@@ -192,7 +193,9 @@ fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
         }
         for ls in &d.design.line_searches {
             let leaf = super::line_search_leaf(ls.iteration);
-            searches.entry(ls.iteration).or_default().push(plus(&run.at(&["design", &spec.name, &leaf])));
+            let entry = searches.entry(ls.iteration).or_default();
+            entry.0.push(plus(&run.at(&["design", &spec.name, &leaf])));
+            entry.1.push(format!("{} {:.4}", spec.name, ls.value[0]));
         }
     }
     let top = vec![
@@ -205,9 +208,10 @@ fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
     let top = l.container(ContainerKind::Horizontal, "design: iterations", &top)?;
     let lines = searches
         .iter()
-        .map(|(s, contents)| {
+        .map(|(s, (contents, starts))| {
             let fig = if *s == 1 { "Fig. 1 of seed 000: " } else { "" };
-            l.view(ViewKind::BarChart, &format!("{fig}I/N along line search s = {s}, against τ ∈ [0, 1]"), contents)
+            let name = format!("{fig}I/N along line search s = {s} against τ ∈ [0, 1], less I/N at τ = 0 ({})", starts.join(", "));
+            l.view(ViewKind::BarChart, &name, contents)
         })
         .collect::<BpResult<Vec<_>>>()?;
     let bottom = l.container(ContainerKind::Horizontal, "design: line searches", &lines)?;
