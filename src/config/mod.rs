@@ -2,6 +2,7 @@
 //! [`Experiment`] ([`resolve`]; every error names the offending key), its variants and sweeps.
 //! Every key is documented in docs/experiment-files.md.
 
+mod disturbance;
 mod modes;
 mod resolve;
 mod schema;
