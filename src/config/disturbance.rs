@@ -12,7 +12,9 @@ pub(super) fn resolve(key: &str, df: &DisturbanceFile, steps: usize) -> Result<D
     let weight = |k: &str, rows: &Rows, size: Option<usize>| -> Result<Mat> {
         let w = from_rows(k, rows, size.map(|m| (m, m)))?;
         check_psd(k, &w)?;
-        if w.is_empty() || nalgebra::Cholesky::new(w.clone()).is_none() || crate::numerics::linalg::min_eigenvalue(&w) <= 0.0
+        if w.is_empty()
+            || nalgebra::Cholesky::new(w.clone()).is_none()
+            || crate::numerics::linalg::min_eigenvalue(&w) <= 0.0
         {
             return Err(Error::invalid(k, "the weight must be positive definite"));
         }
@@ -39,7 +41,10 @@ pub(super) fn resolve(key: &str, df: &DisturbanceFile, steps: usize) -> Result<D
     };
     let bound_ok = |r: f64| r >= 0.0 && r.is_finite();
     if let Some(r) = df.energy.filter(|r| !bound_ok(*r)) {
-        return Err(Error::invalid(format!("{key}.energy"), format!("the energy bound must be finite and ≥ 0, got {r}")));
+        return Err(Error::invalid(
+            format!("{key}.energy"),
+            format!("the energy bound must be finite and ≥ 0, got {r}"),
+        ));
     }
     if let Some(r) = &df.step_energy {
         if r.len() != steps {
@@ -57,4 +62,3 @@ pub(super) fn resolve(key: &str, df: &DisturbanceFile, steps: usize) -> Result<D
     }
     Ok(Disturbance { weights, energy: df.energy.unwrap_or(f64::INFINITY), step_energy: df.step_energy.clone() })
 }
-

@@ -92,9 +92,17 @@ fn time_varying_worst_case_against_brute_force() {
         let live: Vec<usize> = (0..m.nrows()).filter(|&k| m[(k, k)] > 0.0).collect();
         assert_eq!(live.len(), exp.plant.horizon);
         let summed = analysis_worst(&exp, real, &with(u.energy, None));
-        let t = Mat::from_diagonal(&filterbench::numerics::linalg::Vector::from_iterator(w.len(), w.iter().map(|w| w.powf(-0.5))));
+        let t = Mat::from_diagonal(&filterbench::numerics::linalg::Vector::from_iterator(
+            w.len(),
+            w.iter().map(|w| w.powf(-0.5)),
+        ));
         let closed = u.energy * nalgebra::SymmetricEigen::new(&t * &m * &t).eigenvalues.max();
-        assert!((summed.value - closed).abs() <= 1e-9 * closed, "{}: summed bound {} vs closed form {closed}", spec.name, summed.value);
+        assert!(
+            (summed.value - closed).abs() <= 1e-9 * closed,
+            "{}: summed bound {} vs closed form {closed}",
+            spec.name,
+            summed.value
+        );
         assert!(summed.exact());
 
         let boxed = analysis_worst(&exp, real, &with(f64::INFINITY, Some(r.clone())));
@@ -115,8 +123,18 @@ fn time_varying_worst_case_against_brute_force() {
             }
             brute = brute.max(v);
         }
-        assert!((boxed.value - brute).abs() <= 1e-9 * brute, "{}: per-step worst {} vs brute force {brute}", spec.name, boxed.value);
-        assert!(boxed.upper >= brute * (1.0 - 1e-9), "{}: S-lemma bound {} below the brute force {brute}", spec.name, boxed.upper);
+        assert!(
+            (boxed.value - brute).abs() <= 1e-9 * brute,
+            "{}: per-step worst {} vs brute force {brute}",
+            spec.name,
+            boxed.value
+        );
+        assert!(
+            boxed.upper >= brute * (1.0 - 1e-9),
+            "{}: S-lemma bound {} below the brute force {brute}",
+            spec.name,
+            boxed.upper
+        );
 
         let both = f.worst.as_ref().unwrap();
         let (value, upper) = both.disturbance_bound.unwrap();
@@ -126,7 +144,8 @@ fn time_varying_worst_case_against_brute_force() {
         assert!(e.iter().zip(&r).all(|(e, r)| *e <= r * (1.0 + 1e-9) + 1e-15), "a per-step bound is exceeded");
         assert!((exact::mean_error(&exp.plant, real, seq) - value).abs() <= 1e-12 * value);
         for seed in 0..300 {
-            let rnd = exact::mean_error(&exp.plant, real, &disturbance::random(&exp.plant, &exp.disturbances, 1000 + seed));
+            let rnd =
+                exact::mean_error(&exp.plant, real, &disturbance::random(&exp.plant, &exp.disturbances, 1000 + seed));
             assert!(rnd <= value * (1.0 + 1e-12), "a random sequence gives {rnd} > the worst case {value}");
         }
         assert!(upper - value <= 1e-9 * upper, "{}: both bounds: worst {value}, S-lemma bound {upper}", spec.name);

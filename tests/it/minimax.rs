@@ -46,8 +46,7 @@ fn example3_reproduces_the_printed_numbers() {
     let i2 = dual_value(pl, pat, &k2) / n;
     assert!((i2 - 0.6742).abs() <= 1e-4, "I/N at the second corner: {i2}");
     let tau = t[1].step;
-    let along =
-        |tau: f64| Covariances::new(k1.blocks.iter().zip(&k2.blocks).map(|(a, b)| a + (b - a) * tau).collect());
+    let along = |tau: f64| Covariances::new(k1.blocks.iter().zip(&k2.blocks).map(|(a, b)| a + (b - a) * tau).collect());
     let best = dual_value(pl, pat, &along(tau));
     let printed = dual_value(pl, pat, &along(0.578));
     assert!(
@@ -85,7 +84,13 @@ fn fig1_line_searches(sol: &filterbench::families::minimax::DualSolution, n: f64
             assert!(w[0] + w[2] - 2.0 * w[1] <= 1e-12 * w[1], "I/N is concave along the segment: {w:?}");
         }
     }
-    eprintln!("Fig. 1: I/N from {:.4} up to {:.6} at τ = {:.4}, {:.4} at τ = 1", i1, sol.value / n, sol.trace[1].step, i2);
+    eprintln!(
+        "Fig. 1: I/N from {:.4} up to {:.6} at τ = {:.4}, {:.4} at τ = 1",
+        i1,
+        sol.value / n,
+        sol.trace[1].step,
+        i2
+    );
 }
 
 /// At K̂ the exact worst case of the minimax filter over the set equals I(K̂) (to the final gap),
@@ -247,21 +252,35 @@ fn examples_1_and_5_in_closed_form() {
         let filters = pipeline::design_all(&exp).unwrap();
         let m = exp.filter_index("minimax").unwrap();
         let d = &filters[m].design;
-        let k_hat = d.design_covariance.as_ref().unwrap();
-        let (de, dw) = (k_hat.blocks[1][(0, 0)], k_hat.blocks[2][(0, 0)]);
-        assert!((de - 0.5).abs() < 1e-12 && (dw - 1.0).abs() < 1e-12, "{name}: K̂ = ({de}, {dw}), the upper bounds");
-        let pl = &exp.plant;
-        let (a, b, c, dd) = (pl.a[(0, 0)], pl.b[(0, 0)], pl.c[(0, 0)], pl.d[(0, 1)]);
-        let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, |_| ru, rv, p0, pl.horizon);
-        for (n, (k, _)) in closed.iter().enumerate() {
-            let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
-            assert!((ours - k).abs() <= 1e-9 * k.abs(), "{name}: k̂{} = {ours} vs closed form {k}", n + 1);
-        }
-        let bound: f64 = closed.iter().map(|(_, p)| p).sum();
-        let g = d.guarantee.as_ref().unwrap().total;
-        assert!((g - bound).abs() <= 1e-9 * bound, "{name}: guarantee {g} vs Σ P̂n = {bound}");
+        let (closed, bound) = assert_scalar_closed_form(&exp, d, |_| ru, rv, p0);
         eprintln!("{name}: Σ P̂n = {bound:.10}, k̂N = {:.10}", closed.last().unwrap().0);
     }
+}
+
+/// A scalar minimax design (the variances bounded by 0.5 and 1) against [`scalar_minimax`] to 1e-9:
+/// K̂ the upper bounds, every gain, and the guarantee Σ P̂n. Returns (k̂n, P̂n) and Σ P̂n.
+fn assert_scalar_closed_form(
+    exp: &Experiment,
+    d: &filterbench::filter::design::Design,
+    ru: impl Fn(usize) -> f64,
+    rv: f64,
+    p0: f64,
+) -> (Vec<(f64, f64)>, f64) {
+    let name = &exp.name;
+    let k_hat = d.design_covariance.as_ref().unwrap();
+    let (de, dw) = (k_hat.blocks[1][(0, 0)], k_hat.blocks[2][(0, 0)]);
+    assert!((de - 0.5).abs() < 1e-12 && (dw - 1.0).abs() < 1e-12, "{name}: K̂ = ({de}, {dw}), the upper bounds");
+    let pl = &exp.plant;
+    let (a, b, c, dd) = (pl.a[(0, 0)], pl.b[(0, 0)], pl.c[(0, 0)], pl.d[(0, 1)]);
+    let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, ru, rv, p0, pl.horizon);
+    for (n, (k, _)) in closed.iter().enumerate() {
+        let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
+        assert!((ours - k).abs() <= 1e-9 * k.abs(), "{name}: k̂{} = {ours} vs closed form {k}", n + 1);
+    }
+    let bound: f64 = closed.iter().map(|(_, p)| p).sum();
+    let g = d.guarantee.as_ref().unwrap().total;
+    assert!((g - bound).abs() <= 1e-9 * bound, "{name}: guarantee {g} vs Σ P̂n = {bound}");
+    (closed, bound)
 }
 
 /// Example 2's worst covariance (N = 16, the horizon at which the iteration converges to the
@@ -326,7 +345,8 @@ fn theorem_1_2b_condition_is_checked() {
 
 /// Section 5 with time-varying weights and per-step bounds (experiments/minimax_time_varying.toml),
 /// in closed form (1e-9): the surrogate variance of u_n = w_u[n − 1] is s / W_(n−1) with
-/// s = min(r, Σ r_k), the gains are the scalar recursion's and the guarantee is Σ P̂n.
+/// s = min(r, Σ r_k), K̂ is the variances' upper bounds, the gains are the scalar recursion's and
+/// the guarantee is Σ P̂n.
 #[test]
 fn time_varying_weights_in_closed_form() {
     let exp = load("minimax_time_varying", 10);
@@ -335,15 +355,10 @@ fn time_varying_weights_in_closed_form() {
     assert!(u.varies() && (u.surrogate_scale() - s).abs() == 0.0);
     let filters = pipeline::design_all(&exp).unwrap();
     let d = &filters[exp.filter_index("minimax").unwrap()].design;
-    let pl = &exp.plant;
-    let (a, b, c, dd) = (pl.a[(0, 0)], pl.b[(0, 0)], pl.c[(0, 0)], pl.d[(0, 1)]);
-    let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, |n| s / u.weights[n - 1][(0, 0)], 0.0, 0.0, pl.horizon);
-    for (n, (k, _)) in closed.iter().enumerate() {
-        let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
-        assert!((ours - k).abs() <= 1e-9 * k.abs(), "k̂{} = {ours} vs closed form {k}", n + 1);
-    }
-    let bound: f64 = closed.iter().map(|(_, p)| p).sum();
-    let g = d.guarantee.as_ref().unwrap().total;
-    assert!((g - bound).abs() <= 1e-9 * bound, "guarantee {g} vs Σ P̂n = {bound}");
-    eprintln!("minimax_time_varying: s = {s}, Σ P̂n = {bound:.10}, k̂1 = {:.10}, k̂N = {:.10}", closed[0].0, closed.last().unwrap().0);
+    let (closed, bound) = assert_scalar_closed_form(&exp, d, |n| s / u.weights[n - 1][(0, 0)], 0.0, 0.0);
+    eprintln!(
+        "minimax_time_varying: s = {s}, Σ P̂n = {bound:.10}, k̂1 = {:.10}, k̂N = {:.10}",
+        closed[0].0,
+        closed.last().unwrap().0
+    );
 }

@@ -83,10 +83,10 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
                 if parts.first().is_some_and(|p| variants.iter().any(|v| v == p) && !KINDS.contains(p)) {
                     parts.remove(0);
                 }
-                if let ["design", f, leaf] = parts.as_slice() {
-                    if leaf.starts_with("line_search_") {
-                        r.line_searches.insert(format!("{f}/{leaf}"));
-                    }
+                if let ["design", f, leaf] = parts.as_slice()
+                    && leaf.starts_with("line_search_")
+                {
+                    r.line_searches.insert(format!("{f}/{leaf}"));
                 }
                 for id in colour_components() {
                     for row in chunk.iter_component::<rerun::components::Color>(id) {
@@ -157,7 +157,9 @@ fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_fil
             .iter()
             .zip(&outs)
             .flat_map(|(e, o)| e.filters.iter().zip(&o.filters))
-            .flat_map(|(f, d)| d.design.line_searches.iter().map(move |l| format!("{}/line_search_{}", f.name, l.iteration)))
+            .flat_map(|(f, d)| {
+                d.design.line_searches.iter().map(move |l| format!("{}/line_search_{}", f.name, l.iteration))
+            })
             .collect();
         assert_eq!(r.line_searches, expected, "{name}: the line searches drawn");
         if name == "minimax_example3" {

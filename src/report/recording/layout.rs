@@ -210,7 +210,10 @@ fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
         .iter()
         .map(|(s, (contents, starts))| {
             let fig = if *s == 1 { "Fig. 1 of seed 000: " } else { "" };
-            let name = format!("{fig}I/N along line search s = {s} against τ from 0 to 1, less I/N at τ = 0 ({})", starts.join(", "));
+            let name = format!(
+                "{fig}I/N along line search s = {s} against τ from 0 to 1, less I/N at τ = 0 ({})",
+                starts.join(", ")
+            );
             l.view(ViewKind::BarChart, &name, contents)
         })
         .collect::<BpResult<Vec<_>>>()?;
