@@ -2,6 +2,7 @@
 //! [`Experiment`] ([`resolve`]; every error names the offending key), its variants and sweeps.
 //! Every key is documented in docs/experiment-files.md.
 
+mod disturbance;
 mod modes;
 mod plant;
 mod resolve;
@@ -140,15 +141,19 @@ impl Experiment {
                 b.fill(0.0);
             }
         }
+        out.varying.clear();
         out
     }
     /// The nominal covariances the designs use: each disturbance block replaced by the white-noise
-    /// surrogate energy · W⁻¹ of seed 000 eqs (38)–(39).
+    /// surrogate s · W_k⁻¹ of seed 000 eqs (38)–(39), step by step when its weights vary.
     pub fn design_nominal(&self) -> Covariances {
         let mut out = self.nominal.clone();
-        for (b, d) in out.blocks.iter_mut().zip(&self.disturbances) {
+        for (i, (b, d)) in out.blocks.iter_mut().zip(&self.disturbances).enumerate() {
             if let Some(d) = d {
                 *b = d.surrogate_covariance();
+                if let Some(steps) = d.surrogate_steps() {
+                    out.varying.push((i, steps));
+                }
             }
         }
         out

@@ -118,7 +118,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
     let m = plant_matrices(p)?;
     let (blocks, dims, disturbances) = covariance_blocks(p, &f.nominal, &f.disturbances, m.a.nrows(), m.b.ncols())?;
     let plant = plant(p, m, dims, f.modes.as_ref())?;
-    let nominal = Covariances { blocks };
+    let nominal = Covariances::new(blocks);
     let sets = sets(&f.sets, &f.disturbances, &plant, &nominal)?;
     let filters = filters(&mut f)?;
     let scenarios = scenarios(std::mem::take(&mut f.scenarios), &plant, &nominal, &sets, &disturbances, &filters)?;
@@ -195,21 +195,10 @@ fn covariance_blocks(
     let mut disturbances = vec![None];
     for bn in std::iter::once("x0").chain(p.noise_blocks.iter().map(String::as_str)) {
         if let Some(df) = disturbances_file.get(bn) {
-            let key = format!("disturbances.{bn}");
-            let w = from_rows(&format!("{key}.weight"), &df.weight, None)?;
-            check_psd(&format!("{key}.weight"), &w)?;
-            if w.is_empty()
-                || nalgebra::Cholesky::new(w.clone()).is_none()
-                || crate::numerics::linalg::min_eigenvalue(&w) <= 0.0
-            {
-                return Err(Error::invalid(format!("{key}.weight"), "the weight must be positive definite"));
-            }
-            if !(df.energy >= 0.0 && df.energy.is_finite()) {
-                return Err(Error::invalid(format!("{key}.energy"), "the energy bound must be finite and ≥ 0"));
-            }
-            let d = Disturbance { weight: w, energy: df.energy };
-            dims.push((bn.to_string(), d.weight.nrows()));
-            blocks.push(Mat::zeros(d.weight.nrows(), d.weight.nrows()));
+            let d = super::disturbance::resolve(&format!("disturbances.{bn}"), df, p.horizon + 1)?;
+            let m = d.weights[0].nrows();
+            dims.push((bn.to_string(), m));
+            blocks.push(Mat::zeros(m, m));
             disturbances.push(Some(d));
             continue;
         }

@@ -235,12 +235,19 @@ impl Kinds for Input<String> {
     ];
 }
 
-/// An energy-bounded deterministic disturbance block (seed 000 eq (36)).
+/// An energy-bounded deterministic disturbance block (seed 000 eq (36)): one `weight` or one of
+/// `weights` per step k = 0..N, and the summed bound `energy`, per-step bounds `step_energy`, or both.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct DisturbanceFile {
-    pub(super) weight: Rows,
-    pub(super) energy: f64,
+    #[serde(default)]
+    pub(super) weight: Option<Rows>,
+    #[serde(default)]
+    pub(super) weights: Option<Vec<Rows>>,
+    #[serde(default)]
+    pub(super) energy: Option<f64>,
+    #[serde(default)]
+    pub(super) step_energy: Option<Vec<f64>>,
 }
 
 /// `{ name = "template {key}", family, sweep = { key = [values…] }, …fixed parameters }`: one filter

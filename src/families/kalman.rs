@@ -105,10 +105,14 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
 
 /// The Kalman filter of `plant` for the covariances `cov`, as a realization (module docs).
 pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization {
-    let w = cov.w();
+    let mut w = cov.w();
     let mut pbar = cov.x0().clone();
     let mut steps = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
+        // A disturbance surrogate with time-varying weights (seed 000 eq (39)): W[k] per step.
+        if cov.varies() {
+            w = cov.w_at(k);
+        }
         let bwb = plant.b_at(k) * &w * plant.b_at(k).transpose();
         let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         let wd = &w * d.transpose();

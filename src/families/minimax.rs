@@ -20,7 +20,7 @@
 use serde::Deserialize;
 
 use super::kalman::kalman;
-use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, TraceRow};
+use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, LineSearch, TraceRow};
 use crate::error::{Error, Result};
 use crate::analysis::exact;
 use crate::numerics::linalg::{Mat, frob_dot};
@@ -57,6 +57,8 @@ pub struct DualSolution {
     /// I(K̂).
     pub value: f64,
     pub trace: Vec<TraceRow>,
+    /// The first [`LINE_SEARCHES_KEPT`] line searches, sampled (seed 000 Fig. 1).
+    pub line_searches: Vec<LineSearch>,
     /// The last gap δ (0 when Theorem 1.2a applied).
     pub gap: f64,
     pub converged: bool,
@@ -129,6 +131,7 @@ impl super::Family for Minimax {
             guarantee: Some(Guarantee { kind: GuaranteeKind::Minimax, total: certified, per_step: at_hat.per_step }),
             design_covariance: Some(sol.k_hat),
             trace: sol.trace,
+            line_searches: sol.line_searches,
             figures,
             diagnostics,
             per_trial: None,
@@ -166,9 +169,8 @@ pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> 
     }
     let mut full = Mat::zeros(cols, cols);
     full.view_mut((0, 0), (nx, nx)).copy_from(k.x0());
-    let w = k.w();
     for n in 0..plant.steps() {
-        full.view_mut((nx + n * nw, nx + n * nw), (nw, nw)).copy_from(&w);
+        full.view_mut((nx + n * nw, nx + n * nw), (nw, nw)).copy_from(&k.w_at(n));
     }
     let (eig, _) = crate::numerics::linalg::sym_eigen(&(&m * full * m.transpose()))?;
     let top = eig.iter().cloned().fold(0.0, f64::max);
@@ -187,7 +189,7 @@ pub fn dual_gradient(plant: &Plant, pattern: Pattern, k: &Covariances) -> Vec<Ma
 }
 
 fn along(k: &Covariances, dir: &[Mat], tau: f64) -> Covariances {
-    Covariances { blocks: k.blocks.iter().zip(dir).map(|(a, d)| a + d * tau).collect() }
+    Covariances { blocks: k.blocks.iter().zip(dir).map(|(a, d)| a + d * tau).collect(), varying: k.varying.clone() }
 }
 
 /// Solves the dual problem (14) over the sets (blocks without a set stay as in `start`).
@@ -210,11 +212,20 @@ pub fn dual_solve(
         }
         let value = dual_value(plant, pattern, &k_hat);
         let trace = vec![TraceRow { iteration: 0, objective: value, gap: 0.0, step: 0.0 }];
-        return Ok(DualSolution { k_hat, value, trace, gap: 0.0, converged: true, largest_element: true });
+        return Ok(DualSolution {
+            k_hat,
+            value,
+            trace,
+            line_searches: Vec::new(),
+            gap: 0.0,
+            converged: true,
+            largest_element: true,
+        });
     }
 
     let mut k = start;
     let mut trace = Vec::new();
+    let mut line_searches = Vec::new();
     for s in 0..max_iterations {
         let value = dual_value(plant, pattern, &k);
         let grad = dual_gradient(plant, pattern, &k);
@@ -229,7 +240,7 @@ pub fn dual_solve(
         }
         if gap <= tolerance * value.abs().max(f64::MIN_POSITIVE) {
             trace.push(TraceRow { iteration: s, objective: value, gap, step: 0.0 });
-            return Ok(DualSolution { k_hat: k, value, trace, gap, converged: true, largest_element: false });
+            return Ok(DualSolution { k_hat: k, value, trace, line_searches, gap, converged: true, largest_element: false });
         }
         let dphi = |tau: f64| {
             let g = dual_gradient(plant, pattern, &along(&k, &dir, tau));
@@ -237,9 +248,29 @@ pub fn dual_solve(
         };
         let tau = maximize_concave_01(dphi, 1e-10);
         trace.push(TraceRow { iteration: s, objective: value, gap, step: tau });
+        if line_searches.len() < LINE_SEARCHES_KEPT {
+            line_searches.push(line_search(plant, pattern, &k, &dir, s, tau));
+        }
         k = along(&k, &dir, tau);
     }
     let value = dual_value(plant, pattern, &k);
     let gap = trace.last().map_or(f64::INFINITY, |r| r.gap);
-    Ok(DualSolution { k_hat: k, value, trace, gap, converged: false, largest_element: false })
+    Ok(DualSolution { k_hat: k, value, trace, line_searches, gap, converged: false, largest_element: false })
+}
+
+/// How many line searches a design keeps sampled (seed 000's Fig. 1 is the second, s = 1).
+pub const LINE_SEARCHES_KEPT: usize = 3;
+/// Samples of τ on [0, 1] per kept line search (besides the step taken).
+const LINE_SEARCH_SAMPLES: usize = 41;
+
+/// I(K(s) + τ dir)/N on a grid of τ and at the step taken (seed 000 Fig. 1), N the number of
+/// steps the criterion sums.
+fn line_search(plant: &Plant, pattern: Pattern, k: &Covariances, dir: &[Mat], s: usize, step: f64) -> LineSearch {
+    let n = (0..plant.steps()).filter(|&j| plant.counts(j)).count().max(1) as f64;
+    let mut tau: Vec<f64> = (0..LINE_SEARCH_SAMPLES).map(|i| i as f64 / (LINE_SEARCH_SAMPLES - 1) as f64).collect();
+    tau.push(step);
+    tau.sort_by(f64::total_cmp);
+    tau.dedup();
+    let value = tau.iter().map(|&t| dual_value(plant, pattern, &along(k, dir, t)) / n).collect();
+    LineSearch { iteration: s, tau, value }
 }

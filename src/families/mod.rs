@@ -103,6 +103,16 @@ pub fn configure(filter: &str, family: &str, params: &toml::Table) -> Result<Arc
 
 /// Designs one filter and checks its realization against the plant and pattern.
 pub fn design(configured: &dyn Configured, input: &DesignInput) -> Result<Design> {
+    if input.nominal.varies() && !matches!(configured.family(), "kalman" | "minimax") {
+        return Err(Error::design(
+            input.name,
+            format!(
+                "the {} family designs with one covariance per block, but the surrogate of a disturbance with \
+                 time-varying weights (seed 000 eq (39)) changes with the step: only kalman and minimax take it",
+                configured.family()
+            ),
+        ));
+    }
     let d = configured.design(input)?;
     d.realization.check(input.name, input.plant, input.pattern)?;
     Ok(d)

@@ -138,6 +138,18 @@ pub struct TraceRow {
     pub step: f64,
 }
 
+/// The objective along one line search of an iterative design, sampled on [0, 1] (seed 000
+/// Fig. 1: I(K(s) + τ(K̃ − K(s)))/N against τ, N the number of counted steps).
+#[derive(Clone, Debug)]
+pub struct LineSearch {
+    /// s, the iteration whose segment K(s) → K̃ this is.
+    pub iteration: usize,
+    /// τ, ascending; includes the step taken.
+    pub tau: Vec<f64>,
+    /// I/N at each τ.
+    pub value: Vec<f64>,
+}
+
 /// A designed filter.
 #[derive(Clone, Debug)]
 pub struct Design {
@@ -147,6 +159,8 @@ pub struct Design {
     pub design_covariance: Option<Covariances>,
     /// Iterations of the design procedure (empty for closed-form designs).
     pub trace: Vec<TraceRow>,
+    /// The first line searches of the design procedure, sampled (minimax: seed 000 Fig. 1).
+    pub line_searches: Vec<LineSearch>,
     /// The figures read back by other code or tests ([`Figures`]).
     pub figures: Figures,
     /// Anything else worth keeping in the manifest (solver figures, timings, …); nothing reads
@@ -166,6 +180,7 @@ impl Design {
             guarantee: None,
             design_covariance: None,
             trace: Vec::new(),
+            line_searches: Vec::new(),
             figures: Figures::default(),
             diagnostics,
             per_trial: None,

@@ -100,6 +100,8 @@ pub fn given_covariances(
         let m = from_rows(&format!("{key}.{bname}"), rows, Some((d, d)))?;
         check_psd(&format!("{key}.{bname}"), &m)?;
         out.blocks[i] = m;
+        // A given block is constant, whatever step-by-step surrogate the nominal carried there.
+        out.varying.retain(|(b, _)| *b != i);
     }
     Ok(out)
 }

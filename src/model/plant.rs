@@ -401,12 +401,37 @@ impl Modes {
 
 /// One covariance per block: `blocks[0]` is the covariance of x0, `blocks[1..]` those of the noise
 /// blocks of w, in the plant's order. The noise is white in time with W = blockdiag(blocks[1..]).
+///
+/// `varying` overrides a block's covariance step by step (index into `blocks`, one matrix per step
+/// k = 0..N). Only the designs' surrogate of a deterministic disturbance with time-varying weights
+/// uses it (seed 000 eq (39): r W_k⁻¹); the Kalman filter and the exact analysis honour it, the
+/// other families and the sampler refuse or never see it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Covariances {
     pub blocks: Vec<Mat>,
+    pub varying: Vec<(usize, Vec<Mat>)>,
 }
 
 impl Covariances {
+    /// Constant covariances.
+    pub fn new(blocks: Vec<Mat>) -> Self {
+        Covariances { blocks, varying: Vec::new() }
+    }
+    /// Whether some block's covariance changes with the step.
+    pub fn varies(&self) -> bool {
+        !self.varying.is_empty()
+    }
+    /// W[k]: [`Covariances::w`] with the step-k matrix of every varying block.
+    pub fn w_at(&self, k: usize) -> Mat {
+        if self.varying.is_empty() {
+            return self.w();
+        }
+        let mut blocks: Vec<&Mat> = self.blocks[1..].iter().collect();
+        for (b, steps) in &self.varying {
+            blocks[b - 1] = &steps[k];
+        }
+        block_diag(&blocks)
+    }
     pub fn x0(&self) -> &Mat {
         &self.blocks[0]
     }

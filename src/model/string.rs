@@ -347,5 +347,5 @@ pub fn sampled(horizon: usize, a: Mat, c: Mat, cz: Mat, q: Mat, r: Mat, x0: Mat)
         Vec::new(),
         vec![("process".into(), nx), ("measurement".into(), m)],
     );
-    (plant, Covariances { blocks: vec![x0, q, r] })
+    (plant, Covariances::new(vec![x0, q, r]))
 }

@@ -154,8 +154,10 @@ pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCa
     if sets.is_none() && dist.is_none() {
         return Ok(None);
     }
-    let mut wc = sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None });
-    wc.disturbance = dist.map(|(_, wm)| wm);
+    let mut wc =
+        sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None, disturbance_bound: None });
+    wc.disturbance_bound = dist.as_ref().map(|w| (w.value, w.upper));
+    wc.disturbance = dist.map(|w| w.sequence);
     let at = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref());
     if let Some(cause) = at.unresolved() {
         return Err(Error::invalid("exact error at the maximizer", cause));

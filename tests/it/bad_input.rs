@@ -171,6 +171,34 @@ fn bad_disturbances() {
     fails_cleanly(&t, &["scenarios.nominal_laplace.disturbance", "no [disturbances]"]);
 }
 
+/// The keys of time-varying weights and per-step bounds (seed 000 (33)–(36)).
+#[test]
+fn bad_time_varying_disturbances() {
+    let text = crate::common::text("minimax_time_varying");
+    fails_cleanly(
+        &text.patch("weights = [[[0.5]],", "weights = ["),
+        &["disturbances.u.weights", "one matrix per step"],
+    );
+    fails_cleanly(&text.patch("weights = [[[0.5]],", "weights = [[[-0.5]],"), &["disturbances.u.weights[0]"]);
+    fails_cleanly(&text.patch("[[0.55]],", "[[0.55, 0.0]],"), &["disturbances.u.weights[1]", "1×1"]);
+    fails_cleanly(
+        &text.patch("step_energy = [0.05,", "step_energy = ["),
+        &["disturbances.u.step_energy", "one bound per step"],
+    );
+    fails_cleanly(
+        &text.patch("step_energy = [0.05,", "step_energy = [-0.05,"),
+        &["disturbances.u.step_energy[0]", "≥ 0"],
+    );
+    fails_cleanly(
+        &text.patch("energy = 0.4\n", "energy = 0.4\nweight = [[1.0]]\n"),
+        &["disturbances.u", "exactly one of `weight`"],
+    );
+    let only_weights = text.patch("energy = 0.4\n", "").patch("step_energy", "# step_energy");
+    fails_cleanly(&only_weights, &["disturbances.u", "needs `energy`"]);
+    let h2 = text.patch("family = \"minimax\"\ntolerance = 1e-10", "family = \"h2\"");
+    fails_cleanly(&h2, &["minimax", "time-varying weights", "only kalman and minimax"]);
+}
+
 #[test]
 fn time_varying_c_of_the_wrong_length_or_size() {
     let text = crate::common::text("hinf_regression");

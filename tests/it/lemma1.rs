@@ -127,7 +127,7 @@ fn riccati_matches_eigenvalues_on_random_systems() {
         if dropouts {
             plant.set_arrival(0.4 + 0.05 * (seed % 10) as f64);
         }
-        let nominal = Covariances { blocks: vec![Mat::identity(nx, nx), Mat::identity(nw, nw)] };
+        let nominal = Covariances::new(vec![Mat::identity(nx, nx), Mat::identity(nw, nw)]);
         let pattern = if seed % 4 < 2 { Pattern::Prediction } else { Pattern::Filtering };
         let name = format!("random system {seed} (nx {nx}, nw {nw}, N {horizon}, ρ(A) {target}, dropouts {dropouts})");
         worst =
@@ -211,7 +211,7 @@ fn riccati_at_long_horizons() {
         "N = 2000 (lw = {}): Lemma 1 {riccati_s:.3} s for a = 0, {a}, ∞: {h2:.10} ≤ {norm:.10} ≤ {hinf:.10}",
         lemma.lw()
     );
-    let unit = Covariances { blocks: vec![Mat::zeros(plant.nx(), plant.nx()), Mat::identity(plant.nw(), plant.nw())] };
+    let unit = Covariances::new(vec![Mat::zeros(plant.nx(), plant.nx()), Mat::identity(plant.nw(), plant.nw())]);
     let h2_sq = exact::error(&plant, &real, &unit).total - exact::deterministic_error(&plant, &real);
     let expected = (h2_sq / lemma.lw() as f64).sqrt();
     assert!((h2 - expected).abs() <= TOLERANCE * expected, "a = 0: {h2} vs forward moments {expected}");

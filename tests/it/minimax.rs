@@ -46,8 +46,7 @@ fn example3_reproduces_the_printed_numbers() {
     let i2 = dual_value(pl, pat, &k2) / n;
     assert!((i2 - 0.6742).abs() <= 1e-4, "I/N at the second corner: {i2}");
     let tau = t[1].step;
-    let along =
-        |tau: f64| Covariances { blocks: k1.blocks.iter().zip(&k2.blocks).map(|(a, b)| a + (b - a) * tau).collect() };
+    let along = |tau: f64| Covariances::new(k1.blocks.iter().zip(&k2.blocks).map(|(a, b)| a + (b - a) * tau).collect());
     let best = dual_value(pl, pat, &along(tau));
     let printed = dual_value(pl, pat, &along(0.578));
     assert!(
@@ -61,6 +60,36 @@ fn example3_reproduces_the_printed_numbers() {
     eprintln!(
         "Example 3: I/N {i0:.6} → {i1:.6}, corner {i2:.6}, τ {tau:.4}, Sw(2,3) {sw23:.4}, I(K̂)/N {:.6}",
         sol.value / n
+    );
+    fig1_line_searches(&sol, n, i0, i1, i2);
+}
+
+/// Fig. 1 (the kept line searches): search 0 runs from the nominal 0.4377 to the first corner
+/// 0.6725, search 1 (the printed figure) from 0.6725 to the second corner 0.6742 through its
+/// maximum at the step taken; every sampled curve is concave (second differences on the uniform
+/// grid ≤ 1e-12 relative) and peaks at the step taken.
+fn fig1_line_searches(sol: &filterbench::families::minimax::DualSolution, n: f64, i0: f64, i1: f64, i2: f64) {
+    let ls = &sol.line_searches;
+    assert_eq!(ls.iter().map(|l| l.iteration).collect::<Vec<_>>(), vec![0, 1], "the two line searches taken");
+    for (l, (start, end)) in ls.iter().zip([(i0, i1), (i1, i2)]) {
+        let v = &l.value;
+        assert!((v[0] - start).abs() <= 1e-12 * start && (v.last().unwrap() - end).abs() <= 1e-12 * end, "{l:?}");
+        let at_step = l.tau.iter().position(|t| *t == sol.trace[l.iteration].step).unwrap();
+        let next = sol.trace[l.iteration + 1].objective / n;
+        assert!((v[at_step] - next).abs() <= 1e-12 * next, "I/N at the step {} vs the next iterate {next}", v[at_step]);
+        assert!(v.iter().all(|x| *x <= v[at_step] * (1.0 + 1e-12)), "the step taken is the sampled maximum");
+        let grid: Vec<f64> = l.tau.iter().zip(v).filter(|(t, _)| (*t * 40.0).fract() == 0.0).map(|(_, v)| *v).collect();
+        assert_eq!(grid.len(), 41);
+        for w in grid.windows(3) {
+            assert!(w[0] + w[2] - 2.0 * w[1] <= 1e-12 * w[1], "I/N is concave along the segment: {w:?}");
+        }
+    }
+    eprintln!(
+        "Fig. 1: I/N from {:.4} up to {:.6} at τ = {:.4}, {:.4} at τ = 1",
+        i1,
+        sol.value / n,
+        sol.trace[1].step,
+        i2
     );
 }
 
@@ -185,8 +214,10 @@ fn largest_element_of_loewner_intervals() {
     assert!(gap.abs() <= 1e-7 * sol.value, "gap at the largest element {gap}");
 }
 
-/// The scalar recursion of seed 000's Examples 1 and 5: P̄n = a² P̂n−1 + r_u + b² D⁰ε,
+/// The scalar recursion of seed 000's Examples 1 and 5: P̄n = a² P̂n−1 + r_u(n) + b² D⁰ε,
 /// k̂n = P̄n c / (c² P̄n + r_v + d² D⁰w), P̂n = (1 − k̂n c) P̄n for n = 1..N; returns (k̂n, P̂n).
+/// r_u(n) is the surrogate variance of u_n (eq (39): r_u W_n⁻¹, step-dependent with time-varying
+/// weights).
 #[allow(clippy::too_many_arguments)]
 fn scalar_minimax(
     a: f64,
@@ -195,15 +226,15 @@ fn scalar_minimax(
     d: f64,
     de: f64,
     dw: f64,
-    ru: f64,
+    ru: impl Fn(usize) -> f64,
     rv: f64,
     p0: f64,
     n: usize,
 ) -> Vec<(f64, f64)> {
     let mut p = p0;
     (1..=n)
-        .map(|_| {
-            let pbar = a * a * p + ru + b * b * de;
+        .map(|n| {
+            let pbar = a * a * p + ru(n) + b * b * de;
             let k = pbar * c / (c * c * pbar + rv + d * d * dw);
             p = (1.0 - k * c) * pbar;
             (k, p)
@@ -221,21 +252,35 @@ fn examples_1_and_5_in_closed_form() {
         let filters = pipeline::design_all(&exp).unwrap();
         let m = exp.filter_index("minimax").unwrap();
         let d = &filters[m].design;
-        let k_hat = d.design_covariance.as_ref().unwrap();
-        let (de, dw) = (k_hat.blocks[1][(0, 0)], k_hat.blocks[2][(0, 0)]);
-        assert!((de - 0.5).abs() < 1e-12 && (dw - 1.0).abs() < 1e-12, "{name}: K̂ = ({de}, {dw}), the upper bounds");
-        let pl = &exp.plant;
-        let (a, b, c, dd) = (pl.a.at(0)[(0, 0)], pl.b.at(0)[(0, 0)], pl.c.at(0)[(0, 0)], pl.d.at(0)[(0, 1)]);
-        let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, ru, rv, p0, pl.horizon);
-        for (n, (k, _)) in closed.iter().enumerate() {
-            let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
-            assert!((ours - k).abs() <= 1e-9 * k.abs(), "{name}: k̂{} = {ours} vs closed form {k}", n + 1);
-        }
-        let bound: f64 = closed.iter().map(|(_, p)| p).sum();
-        let g = d.guarantee.as_ref().unwrap().total;
-        assert!((g - bound).abs() <= 1e-9 * bound, "{name}: guarantee {g} vs Σ P̂n = {bound}");
+        let (closed, bound) = assert_scalar_closed_form(&exp, d, |_| ru, rv, p0);
         eprintln!("{name}: Σ P̂n = {bound:.10}, k̂N = {:.10}", closed.last().unwrap().0);
     }
+}
+
+/// A scalar minimax design (the variances bounded by 0.5 and 1) against [`scalar_minimax`] to 1e-9:
+/// K̂ the upper bounds, every gain, and the guarantee Σ P̂n. Returns (k̂n, P̂n) and Σ P̂n.
+fn assert_scalar_closed_form(
+    exp: &Experiment,
+    d: &filterbench::filter::design::Design,
+    ru: impl Fn(usize) -> f64,
+    rv: f64,
+    p0: f64,
+) -> (Vec<(f64, f64)>, f64) {
+    let name = &exp.name;
+    let k_hat = d.design_covariance.as_ref().unwrap();
+    let (de, dw) = (k_hat.blocks[1][(0, 0)], k_hat.blocks[2][(0, 0)]);
+    assert!((de - 0.5).abs() < 1e-12 && (dw - 1.0).abs() < 1e-12, "{name}: K̂ = ({de}, {dw}), the upper bounds");
+    let pl = &exp.plant;
+    let (a, b, c, dd) = (pl.a.at(0)[(0, 0)], pl.b.at(0)[(0, 0)], pl.c.at(0)[(0, 0)], pl.d.at(0)[(0, 1)]);
+    let closed = scalar_minimax(a, b, c, dd, 0.5, 1.0, ru, rv, p0, pl.horizon);
+    for (n, (k, _)) in closed.iter().enumerate() {
+        let ours = d.realization.gains(n + 1, 0).df[(0, 0)];
+        assert!((ours - k).abs() <= 1e-9 * k.abs(), "{name}: k̂{} = {ours} vs closed form {k}", n + 1);
+    }
+    let bound: f64 = closed.iter().map(|(_, p)| p).sum();
+    let g = d.guarantee.as_ref().unwrap().total;
+    assert!((g - bound).abs() <= 1e-9 * bound, "{name}: guarantee {g} vs Σ P̂n = {bound}");
+    (closed, bound)
 }
 
 /// Example 2's worst covariance (N = 16, the horizon at which the iteration converges to the
@@ -293,7 +338,27 @@ fn theorem_1_2b_condition_is_checked() {
         } else {
             assert!(which.starts_with("b:") && rz > 0.0, "{name}: {which}, λmin(R_z)/λmax = {rz}");
         }
-        let zero = Covariances { blocks: exp.nominal.blocks.iter().map(|b| b * 0.0).collect() };
+        let zero = Covariances::new(exp.nominal.blocks.iter().map(|b| b * 0.0).collect());
         assert_eq!(observation_covariance_min_eigenvalue(&exp.plant, &zero).unwrap(), 0.0, "{name}: no noise, R_z = 0");
     }
+}
+
+/// Section 5 with time-varying weights and per-step bounds (experiments/minimax_time_varying.toml),
+/// in closed form (1e-9): the surrogate variance of u_n = w_u[n − 1] is s / W_(n−1) with
+/// s = min(r, Σ r_k), K̂ is the variances' upper bounds, the gains are the scalar recursion's and
+/// the guarantee is Σ P̂n.
+#[test]
+fn time_varying_weights_in_closed_form() {
+    let exp = load("minimax_time_varying", 10);
+    let u = exp.disturbances.iter().flatten().next().unwrap();
+    let s = u.energy.min(u.step_energy.as_ref().unwrap().iter().sum());
+    assert!(u.varies() && (u.surrogate_scale() - s).abs() == 0.0);
+    let filters = pipeline::design_all(&exp).unwrap();
+    let d = &filters[exp.filter_index("minimax").unwrap()].design;
+    let (closed, bound) = assert_scalar_closed_form(&exp, d, |n| s / u.weights[n - 1][(0, 0)], 0.0, 0.0);
+    eprintln!(
+        "minimax_time_varying: s = {s}, Σ P̂n = {bound:.10}, k̂1 = {:.10}, k̂N = {:.10}",
+        closed[0].0,
+        closed.last().unwrap().0
+    );
 }

@@ -39,6 +39,8 @@ struct Read {
     activated: bool,
     colours: BTreeMap<String, BTreeSet<[u8; 3]>>,
     truth: BTreeSet<[u8; 3]>,
+    /// `design/<filter>/line_search_<s>` entities (seed 000 Fig. 1), without the variant.
+    line_searches: BTreeSet<String>,
 }
 
 fn colour_components() -> Vec<ComponentIdentifier> {
@@ -59,6 +61,7 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
         activated: false,
         colours: BTreeMap::new(),
         truth: BTreeSet::new(),
+        line_searches: BTreeSet::new(),
     };
     let mut entities = BTreeSet::new();
     for msg in DecoderApp::decode_lazy(file) {
@@ -79,6 +82,11 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
                 let mut parts: Vec<&str> = parts.iter().map(String::as_str).collect();
                 if parts.first().is_some_and(|p| variants.iter().any(|v| v == p) && !KINDS.contains(p)) {
                     parts.remove(0);
+                }
+                if let ["design", f, leaf] = parts.as_slice()
+                    && leaf.starts_with("line_search_")
+                {
+                    r.line_searches.insert(format!("{f}/{leaf}"));
                 }
                 for id in colour_components() {
                     for row in chunk.iter_component::<rerun::components::Color>(id) {
@@ -144,6 +152,19 @@ fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_fil
             assert!(!r.truth.contains(&c), "{name}: {f} has the truth's colour");
         }
         assert_eq!(r.colours.len(), filters.len(), "{name}: every filter is drawn");
+        // Every kept line search of Algorithm 1 is drawn (seed 000 Fig. 1), and nothing else.
+        let expected: BTreeSet<String> = exps
+            .iter()
+            .zip(&outs)
+            .flat_map(|(e, o)| e.filters.iter().zip(&o.filters))
+            .flat_map(|(f, d)| {
+                d.design.line_searches.iter().map(move |l| format!("{}/line_search_{}", f.name, l.iteration))
+            })
+            .collect();
+        assert_eq!(r.line_searches, expected, "{name}: the line searches drawn");
+        if name == "minimax_example3" {
+            assert!(expected.contains("minimax/line_search_1"), "Example 3 draws Fig. 1");
+        }
     }
 }
 

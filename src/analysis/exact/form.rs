@@ -11,7 +11,7 @@ pub fn error_in_error_coordinates(
     cov: &Covariances,
 ) -> std::result::Result<ExactError, String> {
     let form = error_form(plant, real)?;
-    let w = cov.w();
+    let w = white(plant, cov);
     let input = Input::White { w: &w, mean: None };
     let start = start(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &input).transformed(&form.to_error);
     let mut out = propagate(plant, &start, &input, &|k| form.steps[k].clone());

@@ -199,19 +199,25 @@ pub fn mean_error(plant: &Plant, real: &Realization, w_mean: &Mat) -> f64 {
 
 /// As [`error`], with w[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
 pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> ExactError {
-    let w = cov.w();
+    let w = white(plant, cov);
     if !plant.random_matrices()
         && !plant.time_varying()
+        && !cov.varies()
         && !has_mean(plant, real, w_mean)
         && plant.nx() >= MODAL_MIN_STATES
     {
-        let bwb = plant.b_at(0) * &w * plant.b_at(0).transpose();
+        let bwb = plant.b_at(0) * &w[0] * plant.b_at(0).transpose();
         if [plant.a_at(0), cov.x0(), &bwb].into_iter().all(two_by_two_block_diagonal) {
-            return propagate_modal(plant, real, cov.x0(), &w, &bwb);
+            return propagate_modal(plant, real, cov.x0(), &w[0], &bwb);
         }
     }
     let input = Input::White { w: &w, mean: w_mean };
     resolved(plant, real, &start(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &input), &input)
+}
+
+/// W[k] for [`Input::White`]: one matrix, or one per step when some block varies.
+fn white(plant: &Plant, cov: &Covariances) -> Vec<Mat> {
+    if cov.varies() { (0..plant.steps()).map(|k| cov.w_at(k)).collect() } else { vec![cov.w()] }
 }
 
 /// The plant-coordinate recursion, kept as the reference wherever it resolves the error; where it
@@ -248,12 +254,9 @@ fn has_mean(plant: &Plant, real: &Realization, w_mean: Option<&Mat>) -> bool {
 }
 
 fn zero_covariances(plant: &Plant) -> Covariances {
-    Covariances {
-        blocks: std::iter::once(plant.nx())
-            .chain(plant.noise_blocks.iter().map(|b| b.1))
-            .map(|d| Mat::zeros(d, d))
-            .collect(),
-    }
+    Covariances::new(
+        std::iter::once(plant.nx()).chain(plant.noise_blocks.iter().map(|b| b.1)).map(|d| Mat::zeros(d, d)).collect(),
+    )
 }
 
 /// Which step's noise w[k] sits where in a joint input J = col(x0 − E x0, w[0..N−1]) (w[N] = 0) or

@@ -4,10 +4,11 @@
 use super::*;
 use crate::numerics::linalg::weighted_sum;
 
-/// What drives the recursion besides x0: white noise (covariance and optional mean per step) or a
-/// joint input J with mean and raw second moment over the whole horizon.
+/// What drives the recursion besides x0: white noise (covariance — one, or one per step when
+/// [`Covariances::varying`] — and optional mean per step) or a joint input J with mean and raw
+/// second moment over the whole horizon.
 pub(super) enum Input<'a> {
-    White { w: &'a Mat, mean: Option<&'a Mat> },
+    White { w: &'a [Mat], mean: Option<&'a Mat> },
     Joint { mean: &'a Vector, raw: &'a Mat },
 }
 
@@ -79,7 +80,7 @@ pub(super) fn propagate(
         let (mu, rkk, off) = match input {
             Input::White { w, mean } => {
                 let mu = mean.map_or_else(|| Vector::zeros(nw), |m| m.column(k).into_owned());
-                let r = *w + &mu * mu.transpose();
+                let r = w.get(k).unwrap_or(&w[0]) + &mu * mu.transpose();
                 (mu, r, None)
             }
             Input::Joint { mean, raw } => match joint_offset(plant, mean.len(), k) {

@@ -156,6 +156,9 @@ pub struct WorstCase {
     pub psd: bool,
     /// The worst deterministic disturbance sequence (column k adds to w[k]), when there is one.
     pub disturbance: Option<Mat>,
+    /// The deterministic error that sequence adds and an upper bound on the maximum over all
+    /// admissible sequences ([`crate::analysis::disturbance::Worst`]; equal when certified exact).
+    pub disturbance_bound: Option<(f64, f64)>,
 }
 
 /// max over the sets of J(K) = J(center) + Σ_i max_{K_i ∈ set_i} ⟨∂J/∂K_i, K_i − center_i⟩ (J is
@@ -180,5 +183,5 @@ pub fn worst_case(
         }
     }
     let psd = argmax.blocks.iter().all(crate::numerics::linalg::is_psd);
-    Ok(Some(WorstCase { total, argmax, psd, disturbance: None }))
+    Ok(Some(WorstCase { total, argmax, psd, disturbance: None, disturbance_bound: None }))
 }

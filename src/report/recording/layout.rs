@@ -179,19 +179,44 @@ fn string_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Optio
     Ok(Some(l.container(ContainerKind::Horizontal, "string and error surface", &views)?))
 }
 
-/// Iterative designs: the objective and the gap per iteration.
+/// Iterative designs: the objective and the gap per iteration and, below, the objective along each
+/// kept line search (seed 000 Fig. 1), one view per search s with every filter that has it.
 fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
     let mut obj = Vec::new();
     let mut gap = Vec::new();
+    // Per search s: the entities, and the start values I(K(s))/N of the filters that have it.
+    let mut searches: std::collections::BTreeMap<usize, (Vec<String>, Vec<String>)> = Default::default();
     for (spec, d) in run.exp.filters.iter().zip(&run.out.filters) {
         if !d.design.trace.is_empty() {
             obj.push(plus(&run.at(&["design", &spec.name, "objective"])));
             gap.push(plus(&run.at(&["design", &spec.name, "gap"])));
         }
+        for ls in &d.design.line_searches {
+            let leaf = super::line_search_leaf(ls.iteration);
+            let entry = searches.entry(ls.iteration).or_default();
+            entry.0.push(plus(&run.at(&["design", &spec.name, &leaf])));
+            entry.1.push(format!("{} {:.4}", spec.name, ls.value[0]));
+        }
     }
-    let views = [
+    let top = vec![
         l.view(ViewKind::BarChart, "design: objective per iteration (minimax: I(K(s)))", &obj)?,
         l.view(ViewKind::BarChart, "design: gap per iteration (minimax: δ(s))", &gap)?,
     ];
-    l.container(ContainerKind::Horizontal, "design", &views)
+    if searches.is_empty() {
+        return l.container(ContainerKind::Horizontal, "design", &top);
+    }
+    let top = l.container(ContainerKind::Horizontal, "design: iterations", &top)?;
+    let lines = searches
+        .iter()
+        .map(|(s, (contents, starts))| {
+            let fig = if *s == 1 { "Fig. 1 of seed 000: " } else { "" };
+            let name = format!(
+                "{fig}I/N along line search s = {s} against τ from 0 to 1, less I/N at τ = 0 ({})",
+                starts.join(", ")
+            );
+            l.view(ViewKind::BarChart, &name, contents)
+        })
+        .collect::<BpResult<Vec<_>>>()?;
+    let bottom = l.container(ContainerKind::Horizontal, "design: line searches", &lines)?;
+    l.container(ContainerKind::Vertical, "design", &[top, bottom])
 }

@@ -13,7 +13,10 @@
 //! - `compare/<scenario>/<filter>`: the exact summed error as one bar per filter;
 //! - `tables/<scenario>` and `summary`: the summed figures as Markdown tables;
 //! - `design/<filter>/{objective, gap}`: iterative designs (minimax: I(K(s)) and δ(s) per
-//!   iteration), as bar charts;
+//!   iteration), as bar charts; `design/<filter>/line_search_<s>`: I/N along Algorithm 1's line
+//!   search s against τ ∈ [0, 1] (seed 000 Fig. 1 is s = 1), one bar per sampled τ, less its value
+//!   at τ = 0 (bars start at zero: the rise of I, a fraction of a percent after the first step,
+//!   would not show on top of I itself; the view's title gives the start);
 //! - for a string (seed 004), `galerkin/<scenario>/{surface/<basis>/<α>, surface_table,
 //!   string/<filter>, string/truth}`: the exact error over (basis, n, α) and the first sample
 //!   trial's u along ξ at every step.
@@ -267,8 +270,22 @@ fn design_traces(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
                 rerun::BarChart::new(v).with_abscissa(x.clone()).with_widths([0.8]).with_color(style::filter_colour(f));
             rec.log_static(run.at(&["design", &spec.name, leaf]), &bar)?;
         }
+        for ls in &d.design.line_searches {
+            let width = 0.9 / (ls.tau.len().max(2) - 1) as f32;
+            let rise: Vec<f64> = ls.value.iter().map(|v| v - ls.value[0]).collect();
+            let bar = rerun::BarChart::new(rise)
+                .with_abscissa(ls.tau.clone())
+                .with_widths([width])
+                .with_color(style::filter_colour(f));
+            rec.log_static(run.at(&["design", &spec.name, &line_search_leaf(ls.iteration)]), &bar)?;
+        }
     }
     Ok(())
+}
+
+/// The entity leaf of line search `s` under `design/<filter>/`.
+fn line_search_leaf(s: usize) -> String {
+    format!("line_search_{s}")
 }
 
 /// The filters a scenario's per-step views show: all of them up to [`MAX_SHOWN`], else the
