@@ -7,3 +7,4 @@ pub mod exact;
 pub mod hinf;
 pub mod lemma1;
 pub mod nees;
+pub mod theorem1;

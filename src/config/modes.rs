@@ -3,10 +3,10 @@
 use super::check_name;
 use super::schema::{ModesFile, Rows};
 use crate::error::{Error, Result};
-use crate::model::plant::{Modes, Plant};
-use crate::numerics::linalg::{Mat, from_rows};
+use crate::model::plant::{Modes, Plant, Steps};
+use crate::numerics::linalg::from_rows;
 
-/// Validates a Markov chain and its modes (on a time-invariant plant: its matrices at step 0): Π square with one row per mode, non-negative, rows
+/// Validates a Markov chain and its modes (a matrix a mode does not give is the plant's): Π square with one row per mode, non-negative, rows
 /// summing to 1; p(0) likewise (default: the stationary distribution, which must then exist).
 pub(super) fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<Modes> {
     let q = mf.mode.len();
@@ -36,8 +36,9 @@ pub(super) fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<Modes> {
         stochastic(&format!("modes.transition row {} ({})", s + 1, mf.mode[s].name), &row)?;
     }
     let (n, nw, ny) = (plant.nx(), plant.nw(), plant.ny());
-    let pick = |key: &str, given: &Option<Rows>, base: &Mat, shape: (usize, usize)| -> Result<Mat> {
-        given.as_ref().map_or(Ok(base.clone()), |r| from_rows(key, r, Some(shape)))
+    // A matrix the mode does not give is the plant's, per step when the plant's varies.
+    let pick = |key: &str, given: &Option<Rows>, base: &Steps, shape: (usize, usize)| -> Result<Steps> {
+        given.as_ref().map_or(Ok(base.clone()), |r| from_rows(key, r, Some(shape)).map(Steps::constant))
     };
     let mut modes = Modes {
         names: mf.mode.iter().map(|m| m.name.clone()).collect(),
@@ -50,10 +51,10 @@ pub(super) fn resolve_modes(mf: &ModesFile, plant: &Plant) -> Result<Modes> {
     };
     for m in &mf.mode {
         let key = |x: &str| format!("modes.{}.{x}", m.name);
-        modes.a.push(pick(&key("A"), &m.A, plant.a_at(0), (n, n))?);
-        modes.b.push(pick(&key("B"), &m.B, plant.b_at(0), (n, nw))?);
-        modes.c.push(pick(&key("C"), &m.C, plant.c.at(0), (ny, n))?);
-        modes.d.push(pick(&key("D"), &m.D, plant.d.at(0), (ny, nw))?);
+        modes.a.push(pick(&key("A"), &m.A, &plant.a, (n, n))?);
+        modes.b.push(pick(&key("B"), &m.B, &plant.b, (n, nw))?);
+        modes.c.push(pick(&key("C"), &m.C, &plant.c, (ny, n))?);
+        modes.d.push(pick(&key("D"), &m.D, &plant.d, (ny, nw))?);
     }
     modes.initial = match &mf.initial {
         Some(p0) => {

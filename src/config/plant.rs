@@ -135,12 +135,6 @@ pub(super) fn plant(
         if plant.arrival().is_some() {
             return Err(Error::invalid("modes", "a plant has either dropouts (plant.arrival) or [modes], not both"));
         }
-        if plant.time_varying() {
-            return Err(Error::invalid(
-                "modes",
-                "Markov modes with a time-varying plant (plant.*_steps) are not supported: each mode's matrices are constant",
-            ));
-        }
         plant.measurement = Measurement::Markov(resolve_modes(mf, &plant)?);
     }
     Ok(plant)

@@ -16,7 +16,7 @@ use serde::Deserialize;
 
 use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
+use crate::numerics::linalg::{symmetrize, weighted_sum};
 use crate::numerics::riccati;
 use crate::model::plant::{Steps, Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
@@ -49,12 +49,16 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
         .modes()
         .ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
     let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
-    let avg = |ms: &[Mat]| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms));
+    // Averaged step by step when some mode's matrix varies.
+    let avg = |ms: &[Steps]| {
+        let at = |k: usize| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms.iter().map(|s| s.at(k))));
+        if ms.iter().any(Steps::varies) { Steps::per_step((0..plant.steps()).map(at).collect()) } else { Steps::constant(at(0)) }
+    };
     let mut out = plant.clone();
-    out.a = Steps::constant(avg(&m.a));
-    out.b = Steps::constant(avg(&m.b));
-    out.c = Steps::constant(avg(&m.c));
-    out.d = Steps::constant(avg(&m.d));
+    out.a = avg(&m.a);
+    out.b = avg(&m.b);
+    out.c = avg(&m.c);
+    out.d = avg(&m.d);
     out.measurement = crate::model::plant::Measurement::Always;
     Ok(out)
 }

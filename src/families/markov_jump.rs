@@ -64,8 +64,16 @@ impl super::Family for MarkovJump {
                 "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
             ));
         }
-        if input.plant.time_varying() || !input.plant.factors.is_empty() {
-            return Err(Error::design(name, "the Markov-jump filter needs constant, noise-free matrices (no plant.*_steps, no plant.multiplicative)"));
+        // The finite-horizon recursion (15)–(16) reads each step's matrices; the stationary gains
+        // are fixed points of constant ones.
+        if !input.plant.factors.is_empty() {
+            return Err(Error::design(name, "the Markov-jump filter needs noise-free matrices (no plant.multiplicative)"));
+        }
+        if input.plant.time_varying() && p.gains != GainsKind::Finite {
+            return Err(Error::design(
+                name,
+                "stationary Markov-jump gains (gains = \"steady\" or \"common\") need constant matrices: use gains = \"finite\" on a time-varying plant",
+            ));
         }
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));

@@ -204,6 +204,10 @@ impl Design {
 pub struct GainBound {
     pub gamma_sq: f64,
     pub anisotropy: f64,
+    /// What seed 003's Theorem 1 certifies for the designed filter with a full P(k)
+    /// (`analysis::theorem1::analyze`): between the exact norm² and γ²; its gap to γ² is what the
+    /// design's restriction of P costs.
+    pub theorem1_sq: f64,
 }
 
 /// Seed 002's per-realization promises, with the input energy

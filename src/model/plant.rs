@@ -257,10 +257,10 @@ impl Plant {
                 names: vec!["lost".into(), "arrived".into()],
                 transition: Mat::from_row_slice(2, 2, &[1.0 - p, *p, 1.0 - p, *p]),
                 initial: vec![1.0 - p, *p],
-                a: vec![self.a.at(0).clone(); 2],
-                b: vec![self.b.at(0).clone(); 2],
-                c: vec![Mat::zeros(self.c.nrows(), self.c.ncols()), self.c.at(0).clone()],
-                d: vec![self.d.at(0).clone(); 2],
+                a: vec![self.a.clone(); 2],
+                b: vec![self.b.clone(); 2],
+                c: vec![Steps::constant(Mat::zeros(self.c.nrows(), self.c.ncols())), self.c.clone()],
+                d: vec![self.d.clone(); 2],
             })),
             Measurement::Markov(m) => Some(Cow::Borrowed(m)),
         }
@@ -296,21 +296,21 @@ impl Plant {
     /// A_θ[k] (a Markov plant's modes have constant matrices).
     pub fn a_of(&self, k: usize, mode: usize) -> &Mat {
         match &self.measurement {
-            Measurement::Markov(m) => &m.a[mode],
+            Measurement::Markov(m) => m.a[mode].at(k),
             _ => self.a.at(k),
         }
     }
     /// B_θ[k].
     pub fn b_of(&self, k: usize, mode: usize) -> &Mat {
         match &self.measurement {
-            Measurement::Markov(m) => &m.b[mode],
+            Measurement::Markov(m) => m.b[mode].at(k),
             _ => self.b.at(k),
         }
     }
     /// C_θ[k]: zero before the first measurement and when a measurement is lost.
     pub fn c_of(&self, k: usize, mode: usize) -> Cow<'_, Mat> {
         match &self.measurement {
-            Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(&m.c[mode]),
+            Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(m.c[mode].at(k)),
             Measurement::Dropout { .. } if mode == 0 => Cow::Owned(Mat::zeros(self.c.nrows(), self.c.ncols())),
             _ => self.c_at(k),
         }
@@ -318,7 +318,7 @@ impl Plant {
     /// D_θ[k]: zero before the first measurement.
     pub fn d_of(&self, k: usize, mode: usize) -> Cow<'_, Mat> {
         match &self.measurement {
-            Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(&m.d[mode]),
+            Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(m.d[mode].at(k)),
             _ => self.d_at(k),
         }
     }
@@ -363,10 +363,12 @@ pub struct Modes {
     pub transition: Mat,
     /// p(0) = P(θ[0] = ·).
     pub initial: Vec<f64>,
-    pub a: Vec<Mat>,
-    pub b: Vec<Mat>,
-    pub c: Vec<Mat>,
-    pub d: Vec<Mat>,
+    /// Each mode's matrices, per step on a time-varying plant (a mode that does not override a
+    /// matrix has the plant's, varying as it does).
+    pub a: Vec<Steps>,
+    pub b: Vec<Steps>,
+    pub c: Vec<Steps>,
+    pub d: Vec<Steps>,
 }
 
 impl Modes {

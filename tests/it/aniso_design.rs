@@ -12,7 +12,7 @@
 
 use std::time::Instant;
 
-use filterbench::families::anisotropic::{self, Level, NORM_TOLERANCE};
+use filterbench::families::anisotropic::{self, Level, NORM_TOLERANCE, Structure};
 use filterbench::model::plant::Plant;
 use filterbench::numerics::linalg::{Mat, Vector};
 use rand::SeedableRng;
@@ -126,8 +126,8 @@ fn run_cases(indices: impl Iterator<Item = usize>) -> (usize, Vec<String>, Vec<(
     for i in indices {
         let c = case(i);
         let t = Instant::now();
-        match anisotropic::synthesize_checked(&c.plant, c.level) {
-            Ok((syn, norm_sq, attempt)) => {
+        match anisotropic::synthesize_checked(&c.plant, Structure::Predictor, c.level) {
+            Ok(anisotropic::Checked { synthesis: syn, norm_sq, attempt, .. }) => {
                 by_attempt[attempt - 1] += 1;
                 // The check inside synthesize_checked, restated on its outputs.
                 assert!(
@@ -193,8 +193,9 @@ fn constant_velocity_target_solves_at_every_horizon() {
                 vec![("w".into(), 2)],
             );
             plant.set_arrival(0.9);
-            let (syn, norm_sq, attempts) = anisotropic::synthesize_checked(&plant, Level::Anisotropy(20.0))
-                .unwrap_or_else(|e| panic!("N = {horizon}, q = {q}: {e}"));
+            let anisotropic::Checked { synthesis: syn, norm_sq, attempt: attempts, .. } =
+                anisotropic::synthesize_checked(&plant, Structure::Predictor, Level::Anisotropy(20.0))
+                    .unwrap_or_else(|e| panic!("N = {horizon}, q = {q}: {e}"));
             eprintln!(
                 "N = {horizon}, q = {q}: γ² = {:.6}, exact norm² = {norm_sq:.6}, attempts {attempts}",
                 syn.gamma_sq

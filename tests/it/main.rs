@@ -4,6 +4,7 @@
 
 mod aniso_design;
 mod aniso_dropout;
+mod aniso_structures;
 mod anisotropy;
 mod bad_input;
 mod common;

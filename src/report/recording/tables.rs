@@ -78,22 +78,26 @@ pub fn summary(exp: &Experiment, out: &RunOutcome) -> String {
 }
 
 /// Seed 003's figures of every filter, which do not depend on the scenario: the exact a-anisotropic
-/// norm² at the file's level and its limits, beside the γ² a design guarantees.
+/// norm² at the file's level and its limits, beside the γ² a design guarantees, what Theorem 1
+/// certifies for the designed filter with a full P, and the design's structure (§4.2).
 fn anisotropic_norms(exp: &Experiment, out: &RunOutcome, a: f64) -> String {
     let mut s = format!(
-        "### norms at anisotropy a = {a}\n\n| filter | \\|\\|\\|F\\|\\|\\|²_a | ‖F‖₂²/lw (a = 0) | ‖F‖∞² (a → ∞) | γ² | for a ≤ |\n\
-         |---|---:|---:|---:|---:|---:|\n"
+        "### norms at anisotropy a = {a}\n\n| filter | structure | \\|\\|\\|F\\|\\|\\|²_a | ‖F‖₂²/lw (a = 0) | ‖F‖∞² (a → ∞) \
+         | γ² | Theorem 1, full P | for a ≤ |\n|---|---|---:|---:|---:|---:|---:|---:|\n"
     );
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
         let Some(n) = d.anisotropic else { continue };
         let gb = d.design.gain_bound;
+        let structure = d.design.diagnostics.get("structure").and_then(|v| v.as_str()).unwrap_or("");
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
             cell(&spec.name),
+            cell(structure),
             num(n.norm_sq),
             num(n.h2_sq),
             num(n.hinf_sq),
             gb.map_or(String::new(), |g| num(g.gamma_sq)),
+            gb.map_or(String::new(), |g| num(g.theorem1_sq)),
             gb.map_or(String::new(), |g| num(g.anisotropy)),
         ));
     }

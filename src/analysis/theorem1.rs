@@ -1,0 +1,471 @@
+//! Seed 003's Theorem 1, (4.25)–(4.29): the LMIs that bound the a-anisotropic norm of a system with
+//! multiplicative noise, X(k+1) = 𝒜(k) X + ℬ(k) w, z̃ = 𝒞(k) X + 𝒟(k) w with
+//! (𝒜, ℬ, 𝒞, 𝒟)(k) = (𝒜₀, ℬ₀, 𝒞₀, 𝒟₀) + Σᵢ ζᵢ(k) (𝒜ᵢ, ℬᵢ, 𝒞ᵢ, 𝒟ᵢ), ζᵢ(k) zero-mean, unit variance,
+//! independent over i and k.
+//!
+//! One piece of code writes them for the analysis of a given filter ([`analyze`]: the filter's
+//! matrices are data, the LMIs are linear in P(k), Ψ(k), η, γ²) and for every synthesis of
+//! `families::anisotropic` (the filter's matrices enter through each structure's change of
+//! variables): a caller gives, per step, P(k), P(k+1) and the products P(k+1)𝒜ᵢ, P(k+1)ℬᵢ, 𝒞ᵢ, 𝒟ᵢ as
+//! affine matrices, and [`Conditions::add`] writes
+//!
+//!     (4.25)  [[P(k), ·, ·, ·], [0, ηI, ·, ·], [P'𝒜ᵢ, P'ℬᵢ, P', ·]ᵢ, [𝒞ᵢ, 𝒟ᵢ, 0, I]ᵢ] ⪰ 0
+//!     (4.27)  [[ηI − Ψ(k), ·, ·], [P'ℬᵢ, P', ·]ᵢ, [𝒟ᵢ, 0, I]ᵢ] ⪰ 0
+//!     (4.26), (4.28): the same at k = N with P(N+1) = 0
+//!     (4.29)  ∏ det Ψ(k) ≥ e^{2a} (η − γ²)^{lw},  lw = mw(N+1)
+//!
+//! **One row per factor, carrying all four matrices.** The paper writes 𝒜ᵢ, ℬᵢ, 𝒞ᵢ, 𝒟ᵢ in separate
+//! rows, which is exact when every matrix has its own factors ((4.12)–(4.13) and the condition
+//! (4.14) HGᵀ = 0 that keeps them independent). Here a factor that multiplies several matrices (the
+//! shared ζ of (2.1); a dropout enters 𝒜 and 𝒞 of a filtering structure at once) has one block row
+//! [P'𝒜ᵢ, P'ℬᵢ; 𝒞ᵢ, 𝒟ᵢ]: the Schur complement of (4.25) is then
+//! diag(P, ηI) − Σᵢ [𝒜ᵢ ℬᵢ; 𝒞ᵢ 𝒟ᵢ]ᵀ diag(P', I) [𝒜ᵢ ℬᵢ; 𝒞ᵢ 𝒟ᵢ] ⪰ 0, which is η times the Riccati
+//! inequality (4.21)–(4.23) with E[·] taken over the correlated factors exactly, so (4.14) is not
+//! needed. The bound itself (Lemma 1 with R = R1 + R2 and Jensen on the mean) is derived in the
+//! module docs of `families::anisotropic`.
+//!
+//! **The determinant condition in clarabel.** det Ψ ≥ ∏ Z_ii for every lower-triangular Z with
+//! [[Ψ, Z], [Zᵀ, Diag Z]] ⪰ 0 (PSD cone), and the geometric mean of the lw diagonal entries is
+//! bounded below by a binary tree of rotated second-order cones u² ≤ ab, padded with copies of the
+//! bound itself to a power of two. At a = ∞ (H∞) the condition forces η = γ² and Ψ drops out.
+
+use std::time::Instant;
+
+use crate::analysis::exact::{Augmented, augmented};
+use crate::error::{Error, Result};
+use crate::filter::realization::Realization;
+use crate::model::plant::Plant;
+use crate::numerics::linalg::{Mat, symmetrize};
+use crate::numerics::solve::line::bisect;
+use crate::numerics::solve::affine::{AffMat, Vars};
+use crate::numerics::solve::conic::{Conic, Failure, Tuning};
+
+/// The level of a bound: a total anisotropy a ≥ 0 (over lw = mw(N+1)), or H∞ (a = ∞).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Level {
+    Anisotropy(f64),
+    Hinf,
+}
+
+impl Level {
+    /// a, with H∞ as +∞.
+    pub fn value(self) -> f64 {
+        match self {
+            Level::Anisotropy(a) => a,
+            Level::Hinf => f64::INFINITY,
+        }
+    }
+}
+
+/// One term of the error system at step k (index 0 the mean, then one per factor), as affine
+/// matrices: P(k+1)𝒜ᵢ, P(k+1)ℬᵢ, 𝒞ᵢ, 𝒟ᵢ; None where the term does not enter (no zero blocks are
+/// written, so the program is as small as the plant's noise).
+#[derive(Clone, Debug, Default)]
+pub struct Term {
+    pub pa: Option<AffMat>,
+    pub pb: Option<AffMat>,
+    pub c: Option<AffMat>,
+    pub d: Option<AffMat>,
+}
+
+/// Step k of (4.25)–(4.28): P(k), P(k+1) (None at k = N, where P(N+1) = 0), the terms, and any
+/// constraint of the caller's change of variables that belongs to this step (written first).
+#[derive(Clone, Debug)]
+pub struct Step {
+    pub p: AffMat,
+    pub next: Option<AffMat>,
+    pub terms: Vec<Term>,
+    pub extra_psd: Vec<AffMat>,
+}
+
+/// The scalar variables η = 1/q and γ² and, for a finite level, Ψ(k) and the triangular Z(k) of the
+/// determinant bound.
+pub struct Conditions {
+    pub level: Level,
+    pub eta: usize,
+    pub gsq: usize,
+    psi: Vec<AffMat>,
+    zl: Vec<AffMat>,
+}
+
+/// An affine scalar: constant + Σ coef·x.
+type Scalar = (f64, Vec<(usize, f64)>);
+
+impl Conditions {
+    /// Creates η and γ² (the same variable at a = ∞, where (4.29) forces η = γ²).
+    pub fn new(vars: &mut Vars, level: Level) -> Self {
+        let eta = vars.scalar();
+        let gsq = match level {
+            Level::Anisotropy(_) => vars.scalar(),
+            Level::Hinf => eta,
+        };
+        Conditions { level, eta, gsq, psi: Vec::new(), zl: Vec::new() }
+    }
+
+    /// Creates Ψ(k) and Z(k) for `steps` steps of an input of size mw (nothing at a = ∞).
+    pub fn determinant_variables(&mut self, vars: &mut Vars, steps: usize, mw: usize) {
+        if matches!(self.level, Level::Anisotropy(_)) {
+            self.psi = (0..steps).map(|_| vars.symmetric(mw)).collect();
+            self.zl = (0..steps).map(|_| vars.matrix(mw, mw, true)).collect();
+        }
+    }
+
+    /// Writes (4.25)–(4.29) for every step into `conic`.
+    pub fn add(&self, vars: &mut Vars, conic: &mut Conic, steps: &[Step], mw: usize) {
+        let aniso = matches!(self.level, Level::Anisotropy(_));
+        let eta_i = AffMat::scalar_times(self.eta, Mat::identity(mw, mw));
+        for (k, st) in steps.iter().enumerate() {
+            for extra in &st.extra_psd {
+                extra.psd_into(conic);
+            }
+            let n = st.p.shape().0;
+            // (4.25)/(4.26): P(k), ηI, then a P' row for every term with 𝒜ᵢ or ℬᵢ (none at k = N),
+            // then an I row for every term with 𝒞ᵢ or 𝒟ᵢ.
+            let state_rows: Vec<&Term> = match &st.next {
+                Some(_) => st.terms.iter().filter(|t| t.pa.is_some() || t.pb.is_some()).collect(),
+                None => Vec::new(),
+            };
+            let out_rows: Vec<&Term> = st.terms.iter().filter(|t| t.c.is_some() || t.d.is_some()).collect();
+            let pz = out_rows.first().map_or(0, |t| t.c.as_ref().or(t.d.as_ref()).map_or(0, |m| m.shape().0));
+            let mut sizes = vec![n, mw];
+            let mut lower: Vec<Vec<Option<AffMat>>> = vec![vec![Some(st.p.clone())], vec![None, Some(eta_i.clone())]];
+            for t in &state_rows {
+                let mut row = vec![t.pa.clone(), t.pb.clone()];
+                row.resize(sizes.len(), None);
+                row.push(st.next.clone());
+                lower.push(row);
+                sizes.push(n);
+            }
+            for t in &out_rows {
+                let mut row = vec![t.c.clone(), t.d.clone()];
+                row.resize(sizes.len(), None);
+                row.push(Some(AffMat::constant(Mat::identity(pz, pz))));
+                lower.push(row);
+                sizes.push(pz);
+            }
+            AffMat::symmetric_blocks(&sizes, &lower).psd_into(conic);
+            if aniso {
+                // (4.27)/(4.28): ηI − Ψ(k), a P' row per term with ℬᵢ, an I row per term with 𝒟ᵢ.
+                let mut sizes = vec![mw];
+                let mut lower: Vec<Vec<Option<AffMat>>> = vec![vec![Some(eta_i.sub(&self.psi[k]))]];
+                if st.next.is_some() {
+                    for t in st.terms.iter().filter(|t| t.pb.is_some()) {
+                        let mut row = vec![t.pb.clone()];
+                        row.resize(sizes.len(), None);
+                        row.push(st.next.clone());
+                        lower.push(row);
+                        sizes.push(n);
+                    }
+                }
+                for t in st.terms.iter().filter(|t| t.d.is_some()) {
+                    let mut row = vec![t.d.clone()];
+                    row.resize(sizes.len(), None);
+                    row.push(Some(AffMat::constant(Mat::identity(pz, pz))));
+                    lower.push(row);
+                    sizes.push(pz);
+                }
+                AffMat::symmetric_blocks(&sizes, &lower).psd_into(conic);
+                // det Ψ(k) ≥ ∏ Z_ii:  [[Ψ, Z], [Zᵀ, Diag Z]] ⪰ 0.
+                AffMat::symmetric_blocks(
+                    &[mw, mw],
+                    &[vec![Some(self.psi[k].clone())], vec![Some(self.zl[k].transpose()), Some(self.zl[k].diagonal())]],
+                )
+                .psd_into(conic);
+            }
+        }
+        if let Level::Anisotropy(alevel) = self.level {
+            self.determinant_tree(vars, conic, alevel, mw * steps.len());
+        }
+    }
+
+    /// (4.29) in the convex form η − γ² ≤ e^{−2a/lw} (∏ det Ψ(k))^{1/lw}: t = e^{2a/lw}(η − γ²) ≥ 0
+    /// must not exceed the geometric mean of the Z_ii.
+    fn determinant_tree(&self, vars: &mut Vars, conic: &mut Conic, alevel: f64, lw: usize) {
+        let mw = self.psi.first().map_or(0, |p| p.shape().0);
+        let s = (2.0 * alevel / lw as f64).exp();
+        let t: Scalar = (0.0, vec![(self.eta, s), (self.gsq, -s)]);
+        conic.nonnegative(vec![t.clone()]);
+        let mut nodes: Vec<Scalar> = Vec::new();
+        for z in &self.zl {
+            for i in 0..mw {
+                let idx = z.terms.iter().find(|(_, m)| m[(i, i)] == 1.0).map(|(k, _)| *k).expect("diagonal variable");
+                nodes.push((0.0, vec![(idx, 1.0)]));
+            }
+        }
+        while !nodes.len().is_power_of_two() {
+            nodes.push(t.clone());
+        }
+        while nodes.len() > 1 {
+            let mut next = Vec::with_capacity(nodes.len() / 2);
+            for pair in nodes.chunks(2) {
+                let u = vars.scalar();
+                rotated_cone(conic, &pair[0], &pair[1], u);
+                next.push((0.0, vec![(u, 1.0)]));
+            }
+            nodes = next;
+        }
+        // root ≥ t
+        let root = &nodes[0];
+        let mut terms = root.1.clone();
+        terms.extend(t.1.iter().map(|(k, c)| (*k, -c)));
+        conic.nonnegative(vec![(root.0 - t.0, terms)]);
+    }
+}
+
+/// u² ≤ a·b with a, b ≥ 0, as the second-order cone ‖(2u, a − b)‖ ≤ a + b.
+fn rotated_cone(conic: &mut Conic, a: &Scalar, b: &Scalar, u: usize) {
+    let comb = |sa: f64, sb: f64| -> Scalar {
+        let mut t: Vec<(usize, f64)> = a.1.iter().map(|(k, c)| (*k, sa * c)).collect();
+        t.extend(b.1.iter().map(|(k, c)| (*k, sb * c)));
+        (sa * a.0 + sb * b.0, t)
+    };
+    conic.second_order(vec![comb(1.0, 1.0), (0.0, vec![(u, 2.0)]), comb(1.0, -1.0)]);
+}
+
+/// What Theorem 1 certifies for a given filter by [`analyze_sdp`]: the least γ² clarabel finds for
+/// (4.25)–(4.29) over P(k), Ψ(k), η, and the size and cost of the program.
+#[derive(Clone, Debug)]
+pub struct SdpAnalysis {
+    pub gamma_sq: f64,
+    pub variables: usize,
+    pub rows: usize,
+    pub seconds: f64,
+}
+
+/// What Theorem 1 certifies for a given filter by [`analyze`]: the least γ² of (4.25)–(4.29), the q
+/// that attains it, and the time taken.
+#[derive(Clone, Copy, Debug)]
+pub struct Analysis {
+    pub gamma_sq: f64,
+    pub q: f64,
+    pub seconds: f64,
+}
+
+/// Theorem 1 as an analysis condition: the filter `real` is given, so (4.25)–(4.29) are LMIs in a
+/// full P(k) on the augmented state ξ = (x, s) of [`crate::analysis::exact`] (no restriction of P,
+/// unlike the syntheses), and their least γ² bounds |||F|||²_a from above. The error system's terms
+/// are the factors' (seed 003 (2.1)) and, on a plant with dropouts, the mode's deviation from its
+/// mean: with θ[k] independent over k, Σⱼ pⱼ 𝒜ⱼᵀR𝒜ⱼ = 𝒜̄ᵀR𝒜̄ + Σⱼ pⱼ(𝒜ⱼ − 𝒜̄)ᵀR(𝒜ⱼ − 𝒜̄). Refuses a
+/// Markov plant (noise with memory is outside seed 003).
+pub fn analyze_sdp(plant: &Plant, real: &Realization, level: Level) -> Result<SdpAnalysis> {
+    if plant.switches() && !plant.independent_modes() {
+        return Err(Error::invalid(
+            "modes",
+            "Theorem 1 of seed 003 needs noise independent over time; a Markov-switching plant has memory",
+        ));
+    }
+    let probs = plant.mode_probabilities();
+    let mw = plant.nw();
+    let mut vars = Vars::default();
+    let cond_vars = Conditions::new(&mut vars, level);
+    let n = plant.nx() + real.ns();
+    let p: Vec<AffMat> = (0..plant.steps()).map(|_| vars.symmetric(n)).collect();
+    let mut cond = cond_vars;
+    cond.determinant_variables(&mut vars, plant.steps(), mw);
+    let steps: Vec<Step> = (0..plant.steps())
+        .map(|k| {
+            let next = (k < plant.horizon).then(|| p[k + 1].clone());
+            let counted = if plant.counts(k) { 1.0 } else { 0.0 };
+            let terms = error_terms(plant, real, k, &probs[k])
+                .into_iter()
+                .map(|a| {
+                    let some = |m: Mat| (m.amax() != 0.0).then(|| AffMat::constant(m));
+                    Term {
+                        pa: next.as_ref().and_then(|pn| (a.f.amax() != 0.0).then(|| pn.rmul(&a.f))),
+                        pb: next.as_ref().and_then(|pn| (a.e.amax() != 0.0).then(|| pn.rmul(&a.e))),
+                        c: some(a.h * counted),
+                        d: some(a.g * counted),
+                    }
+                })
+                .collect();
+            Step { p: p[k].clone(), next, terms, extra_psd: Vec::new() }
+        })
+        .collect();
+    let mut conic = Conic::default();
+    cond.add(&mut vars, &mut conic, &steps, mw);
+    let mut cost = vec![0.0; vars.count];
+    cost[cond.gsq] = 1.0;
+    let (rows, _) = conic.size();
+    let t = Instant::now();
+    let sol = conic
+        .minimize_tuned(&cost, &Tuning::default())
+        .or_else(|_| conic.minimize_tuned(&cost, &Tuning::robust()))
+        .map_err(|f: Failure| Error::invalid("anisotropy", format!("Theorem 1's analysis LMIs (4.25)–(4.29): {f}")))?;
+    Ok(SdpAnalysis { gamma_sq: sol.x[cond.gsq], variables: vars.count, rows, seconds: t.elapsed().as_secs_f64() })
+}
+
+/// The error system of step k as a mean and zero-mean unit-variance terms: the mode's deviation
+/// (one term √(p₀p₁)(𝒜₁ − 𝒜₀) for dropouts, √pⱼ(𝒜ⱼ − 𝒜̄) per mode otherwise) and every factor's
+/// term (weighted √pⱼ per mode when the filter reads the mode, once otherwise).
+fn error_terms(plant: &Plant, real: &Realization, k: usize, probs: &[f64]) -> Vec<Augmented> {
+    let augs: Vec<Augmented> = (0..plant.n_modes()).map(|j| augmented(plant, real, k, j)).collect();
+    let combine = |w: &[(f64, &Augmented)]| -> Augmented {
+        let mut out = augs[0].clone();
+        out.terms.clear();
+        out.f *= 0.0;
+        out.e *= 0.0;
+        out.h *= 0.0;
+        out.g *= 0.0;
+        for (c, a) in w {
+            out.f += &a.f * *c;
+            out.e += &a.e * *c;
+            out.h += &a.h * *c;
+            out.g += &a.g * *c;
+        }
+        out
+    };
+    let weighted: Vec<(f64, &Augmented)> = probs.iter().copied().zip(&augs).collect();
+    let mean = combine(&weighted);
+    let mut out = vec![mean.clone()];
+    match augs.len() {
+        1 => {}
+        2 => out.push(combine(&[(-(probs[0] * probs[1]).sqrt(), &augs[0]), ((probs[0] * probs[1]).sqrt(), &augs[1])])),
+        _ => out.extend(augs.iter().zip(probs).map(|(a, p)| combine(&[(p.sqrt(), a), (-p.sqrt(), &mean)]))),
+    }
+    if real.is_mode_indexed() {
+        for (a, p) in augs.iter().zip(probs) {
+            out.extend(a.terms.iter().map(|t| combine(&[(p.sqrt(), t)])));
+        }
+    } else {
+        out.extend(augs[0].terms.iter().cloned());
+    }
+    out
+}
+
+/// What Theorem 1 certifies for a given filter, found exactly: for a fixed q = 1/η the least
+/// solution of (4.25) is the Riccati equation (4.21)–(4.23) with equality, R(N+1) = 0,
+///
+///     S̃(k) = I − E[ℬᵀR'ℬ + q𝒟ᵀ𝒟],  L̃(k) = E[ℬᵀR'𝒜 + q𝒟ᵀ𝒞],  R(k) = E[𝒜ᵀR'𝒜 + q𝒞ᵀ𝒞] + L̃ᵀS̃⁻¹L̃,
+///
+/// (every right-hand side grows with R', so the least R(k+1) gives the largest S̃(k) at every step
+/// at once — the monotonicity the paper invokes below (4.24)), Ψ(k) = ηS̃(k) is the best Ψ, and
+/// (4.29) then gives γ²(q) = (1 − e^{(Σₖ ln det S̃(k) − 2a)/lw})/q. The least γ² over q ∈ (0, q̄),
+/// q̄ = sup{q : every S̃ ≻ 0}, is Theorem 1's bound for this filter with a full P(k); at a = ∞ it is
+/// 1/q̄. This is the optimum of the LMIs [`analyze_sdp`] hands to clarabel, without its difficulty:
+/// at a = 0 the optimum is the limit q → 0 (η → ∞), which an interior-point solver only approaches
+/// (AlmostSolved, 0.5 % apart between settings on aniso_dropout). R is carried divided by q, so
+/// q → 0 loses nothing: at a = 0 the bound tends to tr E[ℬᵀR̃ℬ + 𝒟ᵀ𝒟]/lw = ‖F‖₂²/lw, the exact
+/// H2 limit (Jensen's gap vanishes with the quadratic term).
+pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analysis> {
+    if plant.switches() && !plant.independent_modes() {
+        return Err(Error::invalid(
+            "modes",
+            "Theorem 1 of seed 003 needs noise independent over time; a Markov-switching plant has memory",
+        ));
+    }
+    let t = Instant::now();
+    let probs = plant.mode_probabilities();
+    let steps: Vec<Vec<Augmented>> = (0..plant.steps())
+        .map(|k| {
+            let counted = if plant.counts(k) { 1.0 } else { 0.0 };
+            error_terms(plant, real, k, &probs[k])
+                .into_iter()
+                .map(|mut a| {
+                    a.h *= counted;
+                    a.g *= counted;
+                    a
+                })
+                .collect()
+        })
+        .collect();
+    let lw = (plant.nw() * plant.steps()) as f64;
+    let n = plant.nx() + real.ns();
+    // Σ ln det S̃(k) at q, or None when some S̃(k) is not positive definite.
+    let ln_det = |q: f64| -> Option<f64> {
+        let mut r = Mat::zeros(n, n);
+        let mut total = 0.0;
+        for terms in steps.iter().rev() {
+            let nw = terms[0].e.ncols();
+            let (mut nn, mut bb, mut rr) = (Mat::zeros(nw, nw), Mat::zeros(nw, n), Mat::zeros(n, n));
+            for a in terms {
+                let (rf, re) = (&r * &a.f, &r * &a.e);
+                nn += a.e.transpose() * &re + a.g.transpose() * &a.g;
+                bb += a.e.transpose() * &rf + a.g.transpose() * &a.h;
+                rr += a.f.transpose() * &rf + a.h.transpose() * &a.h;
+            }
+            // S̃ = I − qN̂ with N̂ = N/q's eigenvalues μ: ln det S̃ = Σ ln(1 − qμ) by log1p, which
+            // keeps its digits for the q ~ 1e-12 q̄ where the a = 0 bound is taken.
+            let eig = symmetrize(&nn).symmetric_eigen();
+            if eig.eigenvalues.iter().any(|m| q * m >= 1.0) {
+                return None;
+            }
+            total += eig.eigenvalues.iter().map(|m| (-q * m).ln_1p()).sum::<f64>();
+            let inv = Mat::from_diagonal(&eig.eigenvalues.map(|m| 1.0 / (1.0 - q * m)));
+            let s_inv = &eig.eigenvectors * inv * eig.eigenvectors.transpose();
+            // R̃ = R/q: R̃(k) = E[𝒜ᵀR̃'𝒜 + 𝒞ᵀ𝒞] + q L̂ᵀ S̃⁻¹ L̂ with L̂ = L̃/q.
+            r = symmetrize(&(rr + q * bb.transpose() * s_inv * &bb));
+            if !r.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+        }
+        Some(total)
+    };
+    let trace = {
+        let mut r = Mat::zeros(n, n);
+        let mut tr = 0.0;
+        for terms in steps.iter().rev() {
+            let mut rr = Mat::zeros(n, n);
+            for a in terms {
+                tr += (a.e.transpose() * &r * &a.e + a.g.transpose() * &a.g).trace();
+                rr += a.f.transpose() * &r * &a.f + a.h.transpose() * &a.h;
+            }
+            r = rr;
+        }
+        tr
+    };
+    if !(trace > 0.0) {
+        return Ok(Analysis { gamma_sq: 0.0, q: 0.0, seconds: t.elapsed().as_secs_f64() });
+    }
+    // q̄ ≤ 1/λmax(Λ) ≤ lw/tr Λ (Theorem 1's H∞ bound 1/q̄ is at least the exact λmax), and every
+    // S̃ = I at q = 0.
+    let (q_bar, _) = bisect(0.0, 2.0 * lw / trace, |q| ln_det(q).is_some(), |lo, hi| hi - lo <= 4.0 * f64::EPSILON * hi, 400);
+    let (gamma_sq, q) = match level {
+        Level::Hinf => (1.0 / q_bar, q_bar),
+        Level::Anisotropy(a) => {
+            let at = |q: f64| ln_det(q).map_or(f64::INFINITY, |ld| -((ld - 2.0 * a) / lw).exp_m1() / q);
+            minimize_on(&at, q_bar)
+        }
+    };
+    Ok(Analysis { gamma_sq, q, seconds: t.elapsed().as_secs_f64() })
+}
+
+/// min over q ∈ (0, q̄) of γ²(q): a geometric grid from 1e-12 q̄ to q̄(1 − 1e-12) (γ²(q) is smooth
+/// and has one minimum on every filter we have met, but the grid does not rely on it), then golden
+/// sections in the grid cell around the best point.
+fn minimize_on(f: &impl Fn(f64) -> f64, q_bar: f64) -> (f64, f64) {
+    let mut grid: Vec<f64> = (0..=24).map(|i| q_bar * 10f64.powf(-12.0 + 12.0 * i as f64 / 24.0)).collect();
+    grid.extend((1..=12).map(|j| q_bar * (1.0 - 10f64.powi(-j))));
+    grid.sort_by(f64::total_cmp);
+    grid.dedup();
+    let values: Vec<f64> = grid.iter().map(|q| f(*q)).collect();
+    let best = (0..grid.len()).min_by(|i, j| values[*i].total_cmp(&values[*j])).expect("grid");
+    let (mut lo, mut hi) = (grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)]);
+    let mut best_q = (values[best], grid[best]);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..80 {
+        if hi - lo <= 1e-12 * hi {
+            break;
+        }
+        if f1 <= f2 {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        }
+        for c in [(f1, x1), (f2, x2)] {
+            if c.0 < best_q.0 {
+                best_q = c;
+            }
+        }
+    }
+    best_q
+}
