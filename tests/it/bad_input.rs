@@ -217,7 +217,15 @@ fn bad_dropouts_anisotropy_and_variants() {
         &["filters.anisotropic.anisotropy", "≥ 0"],
     );
     fails_cleanly(&base.patch("anisotropy = \"inf\"", "anisotropy = \"infinite\""), &["hinf_suboptimal", "\"inf\""]);
-    fails_cleanly(&base.patch("pattern = \"prediction\"", "pattern = \"filtering\""), &["anisotropic", "predictor"]);
+    let static_filter = "anisotropy = 20.0\nstructure = \"static\"\n\n[[filters]]\nname = \"h2";
+    fails_cleanly(
+        &base.patch("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", static_filter),
+        &["anisotropic", "structure \"static\"", "pattern = \"filtering\""],
+    );
+    fails_cleanly(
+        &base.patch("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", "anisotropy = 20.0\nstructure = \"general\"\n\n[[filters]]\nname = \"h2"),
+        &["filters.anisotropic.structure", "general"],
+    );
     fails_cleanly(
         &base.patch("x0 = [[0.0, 0.0], [0.0, 0.0]]", "x0 = [[1.0, 0.0], [0.0, 1.0]]"),
         &["anisotropic", "x(0) known"],

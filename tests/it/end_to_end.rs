@@ -54,7 +54,7 @@ fn kalman_baseline_writes_the_output_contract() {
 
 /// Every column of summary.parquet, in order: a new or renamed column must be documented here and
 /// in the README.
-const SUMMARY_COLUMNS: [&str; 44] = [
+const SUMMARY_COLUMNS: [&str; 45] = [
     "experiment",
     "variant",
     "scenario",
@@ -96,6 +96,7 @@ const SUMMARY_COLUMNS: [&str; 44] = [
     "hinf_norm_sq",
     "guaranteed_gain",
     "guarantee_anisotropy",
+    "theorem1_gain",
     "guarantee_applies",
     "design_seconds",
     "mc_seconds",
