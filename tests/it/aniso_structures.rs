@@ -23,6 +23,7 @@ use filterbench::config::Experiment;
 use filterbench::families::anisotropic::{self, Level, Structure};
 use filterbench::pipeline;
 
+use crate::multiplicative::no_c_steps;
 use crate::time_varying::{parse, plant_text};
 
 const SCENARIOS: &str = "[[scenarios]]\nname = \"white\"\n";
@@ -101,11 +102,6 @@ fn theorem1_lmis_in_clarabel_reach_their_riccati_optimum() {
 #[test]
 fn dropouts_design_the_same_bound_as_a_rademacher_factor() {
     // C constant [1, 0]: λ C with p = ½ is C̄ = [½, 0] plus ζ [½, 0], ζ = ±1.
-    let no_c_steps = |t: String| {
-        let start = t.find("C_steps").unwrap();
-        let end = start + t[start..].find('\n').unwrap() + 1;
-        format!("{}{}", &t[..start], &t[end..])
-    };
     let known = |t: String| t.replace("x0 = [[1.0, 0.2], [0.2, 0.5]]", "x0 = [[0.0, 0.0], [0.0, 0.0]]");
     let dropout = parse(&known(no_c_steps(plant_text("prediction", 25, false, "arrival = 0.5", KALMAN, SCENARIOS))));
     let lambda = "[[plant.multiplicative]]\nname = \"lambda\"\nshape = \"rademacher\"\nC = [[0.5, 0.0]]\n";

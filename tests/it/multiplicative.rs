@@ -49,15 +49,17 @@ fn monte_carlo_matches_exact_with_multiplicative_noise() {
     crate::exact_vs_mc::check(&exp);
 }
 
+/// The plant text without its `C_steps` line (C constant).
+pub(crate) fn no_c_steps(t: String) -> String {
+    let start = t.find("C_steps").unwrap();
+    let end = start + t[start..].find('\n').unwrap() + 1;
+    format!("{}{}", &t[..start], &t[end..])
+}
+
 #[test]
 fn dropouts_are_a_rademacher_factor_on_c() {
     // The constant C = [1, 0] (no C_steps): dropouts multiply it by λ ∈ {0, 1}; the factor plant
     // has C̄ = [½, 0] and M = [½, 0] with ζ = ±1.
-    let no_c_steps = |t: String| {
-        let start = t.find("C_steps").unwrap();
-        let end = start + t[start..].find('\n').unwrap() + 1;
-        format!("{}{}", &t[..start], &t[end..])
-    };
     let dropout = parse(&no_c_steps(plant_text("prediction", 30, false, "arrival = 0.5", KALMAN, SCENARIOS)));
     let lambda = "[[plant.multiplicative]]\nname = \"lambda\"\nshape = \"rademacher\"\nC = [[0.5, 0.0]]\n";
     let factor = parse(
