@@ -33,6 +33,7 @@ pub fn zeros(n: usize) -> Vec<Row> {
 const BLOCKED_MIN_ENTRIES: usize = 4096;
 
 /// out ← M x (`add`: out ← out + M x) for a dense M, x with M.ncols() rows.
+#[inline(always)]
 pub fn gemm(m: &Mat, x: &[Row], add: bool, out: &mut [Row]) {
     debug_assert!(x.len() == m.ncols() && out.len() == m.nrows());
     if m.len() >= BLOCKED_MIN_ENTRIES {
@@ -64,6 +65,7 @@ pub fn axpy(a: f64, x: &Row, out: &mut Row) {
 }
 
 /// out ← M x (`add`: out + M x) for a plant operator, dense or CSR.
+#[inline(always)]
 pub fn apply(op: &LinOp, x: &[Row], add: bool, out: &mut [Row]) {
     match op {
         LinOp::Dense(m) => gemm(m, x, add, out),
@@ -82,6 +84,7 @@ pub fn apply(op: &LinOp, x: &[Row], add: bool, out: &mut [Row]) {
 }
 
 /// out ← out + c ⊙ t row by row: a per-lane coefficient (a multiplicative factor's ζ_i(k)).
+#[inline(always)]
 pub fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
     for (o, r) in out.iter_mut().zip(t) {
         for ((o, v), c) in o.iter_mut().zip(r).zip(c) {
@@ -91,6 +94,7 @@ pub fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
 }
 
 /// out ← out + α v in every lane (a known input r[k], a mean).
+#[inline(always)]
 pub fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
     for (o, &a) in out.iter_mut().zip(v) {
         for x in o.iter_mut() {
@@ -100,6 +104,7 @@ pub fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
 }
 
 /// out ← out − t.
+#[inline(always)]
 pub fn subtract(t: &[Row], out: &mut [Row]) {
     for (o, t) in out.iter_mut().zip(t) {
         for (o, v) in o.iter_mut().zip(t) {
@@ -109,6 +114,7 @@ pub fn subtract(t: &[Row], out: &mut [Row]) {
 }
 
 /// out ← a − b.
+#[inline(always)]
 pub fn difference(a: &[Row], b: &[Row], out: &mut [Row]) {
     for ((o, a), b) in out.iter_mut().zip(a).zip(b) {
         for ((o, a), b) in o.iter_mut().zip(a).zip(b) {
@@ -119,6 +125,7 @@ pub fn difference(a: &[Row], b: &[Row], out: &mut [Row]) {
 
 /// Where lane l is in mode `mode`, out ← t (`add`: out + t): assembles M_θ V from the product
 /// with each mode's matrix when the lanes' modes differ.
+#[inline(always)]
 pub fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [Row]) {
     for (o, r) in out.iter_mut().zip(t) {
         for ((o, v), m) in o.iter_mut().zip(r).zip(modes) {
@@ -129,6 +136,7 @@ pub fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [
 }
 
 /// |e|² per lane.
+#[inline(always)]
 pub fn squared_norm(e: &[Row], out: &mut Row) {
     *out = [0.0; LANES];
     for r in e {
@@ -139,6 +147,7 @@ pub fn squared_norm(e: &[Row], out: &mut Row) {
 }
 
 /// eᵀ W e per lane (NEES and the per-trial ellipsoid checks).
+#[inline(always)]
 pub fn quadratic(w: &Mat, e: &[Row], out: &mut Row) {
     *out = [0.0; LANES];
     for (j, ej) in e.iter().enumerate() {
