@@ -16,8 +16,9 @@ use crate::numerics::linop::LinOp;
 
 /// Trials per lane block: the unit of simulation, drawing and of the fixed reduction order.
 /// Chosen by measurement (`filterbench bench`, docs/architecture.md): 16 and 32 lanes pay the
-/// per-matrix loop overhead more often, 128 lanes spill the 3-state plant's working set of a
-/// few filters out of L1.
+/// per-matrix overhead of each product more often (5.3–5.5 and 4.4–4.8 µs per trial of Example 2's
+/// plant against 4.0–4.4 µs at 64); 128 lanes are no faster (3.9–4.0 µs, within the machine's
+/// noise) and double every per-thread buffer.
 pub const LANES: usize = 64;
 
 /// One component of a vector across the lanes.
