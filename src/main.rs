@@ -35,7 +35,7 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
-    /// Measure throughput: trials × steps per second, and the share of drawing random numbers.
+    /// Measure throughput per scenario (trial-steps/s) and one thread's split: drawing, simulation, statistics.
     Bench {
         /// Experiment name or path to a TOML file.
         name: String,

@@ -132,6 +132,15 @@ pub enum StandardDraw {
 }
 
 impl StandardDraw {
+    /// Fills `out` with i.i.d. draws, the shape matched once for all of them (a lane's noise).
+    #[inline]
+    pub fn fill<'a, R: Rng + ?Sized>(&self, rng: &mut R, out: impl Iterator<Item = &'a mut f64>) {
+        match self {
+            StandardDraw::Gaussian => out.for_each(|v| *v = StandardNormal.sample(rng)),
+            _ => out.for_each(|v| *v = self.draw(rng)),
+        }
+    }
+
     #[inline]
     pub fn draw<R: Rng + ?Sized>(&self, rng: &mut R) -> f64 {
         match self {

@@ -1,6 +1,6 @@
-//! `filterbench bench`: throughput of the Monte Carlo engine on an experiment's first scenario, and
-//! how much of a trial is spent drawing its random numbers. Measured, not asserted. The scenario is
-//! set up and simulated exactly as `experiment` runs it ([`super::scenarios::setup`],
+//! `filterbench bench`: throughput of the Monte Carlo engine on every scenario of an experiment,
+//! and where one thread's time goes (drawing, simulation, statistics). Measured, not asserted. Each
+//! scenario is set up and simulated exactly as `experiment` runs it ([`super::scenarios::setup`],
 //! [`super::evaluate::Engine`]).
 
 use std::fmt::Write;
@@ -8,78 +8,85 @@ use std::time::Instant;
 
 use crate::config::Experiment;
 use crate::error::Result;
-use crate::sim::montecarlo::{self, Workspace};
-use crate::sim::noise::trial_rng;
+use crate::sim::block::{self, Workspace};
+use crate::sim::montecarlo::{self, BLOCK, Scenario};
 
 use super::evaluate::{Engine, exact_errors};
 
 pub fn run(exp: &Experiment) -> Result<String> {
     let filters = super::design_all(exp)?;
     let covs = super::scenario_covariances(exp, &filters)?;
-    let setup = super::scenarios::setup(exp, &filters, 0, &covs[0])?;
     let engine = Engine::new(exp, &filters);
-    let (_, forms) = exact_errors(&engine, &setup)?;
-    let sc = engine.scenario(&setup, 0, &forms);
-    let sampler = &setup.sampler;
     let trials = exp.trials as u64;
-    let steps = exp.plant.steps() as f64;
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "bench {}{}: scenario `{}`, {} filters, N = {}, {} trials, {} thread(s)",
+        "bench {}{}: {} filters, N = {}, {} trials per scenario, {} thread(s), {} trials per lane block",
         exp.name,
         exp.variant.as_deref().map_or(String::new(), |v| format!(" [{v}]")),
-        exp.scenarios[0].name,
         filters.len(),
         exp.plant.horizon,
         trials,
-        rayon::current_num_threads()
+        rayon::current_num_threads(),
+        BLOCK,
     );
+    for (i, cov) in covs.iter().enumerate() {
+        let setup = super::scenarios::setup(exp, &filters, i, cov)?;
+        let (_, forms) = exact_errors(&engine, &setup)?;
+        let sc = engine.scenario(&setup, i, &forms);
+        let _ = write!(s, "{}", scenario(&sc, &exp.scenarios[i].name, trials));
+    }
+    Ok(s)
+}
 
-    // Warm up once, then time the parallel engine as `experiment` runs it.
-    montecarlo::run(&sc, trials.min(montecarlo::BLOCK), &|_| {});
+/// One scenario: the parallel engine as `experiment` runs it, then one thread timed in three
+/// nested passes over the same trials — drawing only, drawing and simulating, and the whole
+/// engine with its statistics — whose differences split a trial's time.
+fn scenario(sc: &Scenario, name: &str, trials: u64) -> String {
+    let steps = sc.plant.steps() as f64;
+    montecarlo::run(sc, trials.min(BLOCK), &|_| {});
     let t = Instant::now();
-    let st = montecarlo::run(&sc, trials, &|_| {});
+    std::hint::black_box(montecarlo::run(sc, trials, &|_| {}));
     let par = t.elapsed().as_secs_f64();
-    std::hint::black_box(&st);
 
-    // One thread, whole trials versus drawing only, over the same trial indices.
-    let mut ws = Workspace::new(&sc);
+    let blocks = || (0..trials.div_ceil(BLOCK)).map(|b| (b * BLOCK, (trials - b * BLOCK).min(BLOCK) as usize));
+    let mut ws = Workspace::new(sc);
+    let t = Instant::now();
+    for (first, active) in blocks() {
+        sc.sampler.start(sc.seed, sc.index, first, active, &mut ws.draw);
+        for k in 0..sc.plant.steps() {
+            sc.sampler.step(k, &mut ws.draw);
+        }
+        std::hint::black_box(&ws.draw.w);
+    }
+    let draw = t.elapsed().as_secs_f64();
     let mut sink = 0.0;
     let t = Instant::now();
-    for i in 0..trials {
-        montecarlo::run_trial(&sc, &mut ws, i, |_, _, _, _, e| sink += e[0]);
+    for (first, active) in blocks() {
+        block::simulate(sc, &mut ws, first, active, |v| sink += v.e[0][0]);
     }
-    let one = t.elapsed().as_secs_f64();
-    let mut draw = sampler.workspace();
-    let t = Instant::now();
-    for i in 0..trials {
-        let mut rng = trial_rng(exp.seed, 0, i);
-        sampler.draw_into(&mut rng, &mut draw);
-        sink += draw.w[(0, 0)];
-    }
-    let rnd = t.elapsed().as_secs_f64();
+    let sim = t.elapsed().as_secs_f64();
     std::hint::black_box(sink);
+    let t = Instant::now();
+    for (first, active) in blocks() {
+        std::hint::black_box(montecarlo::run_block(sc, &mut ws, first, active));
+    }
+    let whole = t.elapsed().as_secs_f64();
 
-    let _ = writeln!(
-        s,
-        "engine (parallel, with accumulators): {:.3} s, {:.3e} trial-steps/s",
+    let us = |x: f64| x / trials as f64 * 1e6;
+    let pct = |x: f64| 100.0 * x / whole;
+    format!(
+        "scenario `{name}`: {:.3e} trial-steps/s ({:.3} s, parallel, with statistics)\n  one thread: {:.2} µs per \
+         trial = drawing {:.2} ({:.0} %, {} scalars) + simulation {:.2} ({:.0} %) + statistics {:.2} ({:.0} %)\n",
+        trials as f64 * steps / par,
         par,
-        trials as f64 * steps / par
-    );
-    let _ = writeln!(
-        s,
-        "one thread, whole trials:             {:.3} s, {:.2} µs per trial",
-        one,
-        one / trials as f64 * 1e6
-    );
-    let _ = writeln!(
-        s,
-        "one thread, drawing only:             {:.3} s, {:.2} µs per trial ({} scalars), {:.0} % of a trial",
-        rnd,
-        rnd / trials as f64 * 1e6,
-        sampler.scalars_per_trial(),
-        100.0 * rnd / one
-    );
-    Ok(s)
+        us(whole),
+        us(draw),
+        pct(draw),
+        sc.sampler.scalars_per_trial(),
+        us(sim - draw),
+        pct(sim - draw),
+        us(whole - sim),
+        pct(whole - sim),
+    )
 }

@@ -4,7 +4,7 @@
 
 use crate::config::{Experiment, Input};
 use crate::error::{Error, Result};
-use crate::sim::montecarlo::BLOCK;
+use crate::sim::montecarlo::{BLOCK, WAVE};
 
 /// Bytes of one running mean/variance accumulator (n, mean, M2).
 const WELFORD: u64 = 24;
@@ -17,9 +17,6 @@ const GAIN_ROW: u64 = 64;
 const MATRIX: u64 = 64;
 /// Bytes per step, scenario and filter of the recording's series (empirical, interval, exact, bound).
 const RECORDED: u64 = 5 * 32;
-/// Monte Carlo accumulators alive at once per scenario: one per block of a wave, plus the total
-/// (montecarlo::run).
-const WAVE: u64 = 256;
 
 /// An estimate of the peak memory of `exp`, in bytes, with the dominant terms named.
 pub struct Estimate {
@@ -33,7 +30,8 @@ fn sat(xs: &[u64]) -> u64 {
     xs.iter().fold(1u64, |a, &x| a.saturating_mul(x))
 }
 
-/// The peak memory of the run, from its sizes: the designed gains of every filter at every step, the
+/// The peak memory of the run, from its sizes: the designed gains of every filter at every step (and
+/// the largest filter's rows of gains.parquet), the
 /// Monte Carlo accumulators (per step, per filter, per block of a wave), what every scenario keeps
 /// (per-step means and exact errors), the per-step table, the recorded trajectories, and the dense
 /// matrices over the whole horizon that joint inputs and anisotropic analyses build.
@@ -46,22 +44,21 @@ pub fn estimate(exp: &Experiment) -> Estimate {
     let q = p.n_modes().max(1) as u64;
     // A filter's state has the plant's size in every family but the Galerkin one (2n: n positions
     // and their velocities); a mode-indexed filter keeps one set of gains per mode and one more.
-    let design = exp
-        .filters
-        .iter()
-        .map(|f| {
-            let ns = match (f.family.as_str(), f.params.get("n").and_then(toml::Value::as_integer)) {
-                ("galerkin", Some(n)) if n > 0 => 2 * n as u64,
-                _ => nx,
-            };
-            let sets = if f.family == "markov_jump" { q + 1 } else { 1 };
-            let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
-            // Each entry as a number, and as a row of gains.parquet; each of the five matrices of a
-            // step is its own allocation.
-            let per_set = entries.saturating_mul(8 + GAIN_ROW).saturating_add(5 * MATRIX);
-            sat(&[steps, per_set, sets])
-        })
-        .fold(0u64, u64::saturating_add);
+    // Each entry as a number; the rows of gains.parquet are built one filter at a time.
+    let (mut design, mut rows) = (0u64, 0u64);
+    for f in &exp.filters {
+        let ns = match (f.family.as_str(), f.params.get("n").and_then(toml::Value::as_integer)) {
+            ("galerkin", Some(n)) if n > 0 => 2 * n as u64,
+            _ => nx,
+        };
+        let sets = if f.family == "markov_jump" { q + 1 } else { 1 };
+        let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
+        // Each of the five matrices of a step is its own allocation.
+        design = design.saturating_add(sat(&[steps, sets, entries.saturating_mul(8).saturating_add(5 * MATRIX)]));
+        rows = rows.max(sat(&[steps, sets, entries, GAIN_ROW]));
+    }
+    let design = design.saturating_add(rows);
+    // Monte Carlo accumulators alive at once per scenario: one per block of a wave, plus the total.
     let live = sat(&[WAVE.min((exp.trials as u64).div_ceil(BLOCK)) + 1, nf, steps, WELFORD]);
     let kept = sat(&[nsc, nf, steps, WELFORD + 8]);
     let table = sat(&[nsc, nf, steps, STEP_ROW + RECORDED]);

@@ -22,7 +22,7 @@ use crate::model::shape::Shape;
 use crate::numerics::linalg::{Mat, Vector};
 use crate::numerics::riccati;
 use crate::numerics::solve::line::bisect;
-use crate::sim::noise::{NoiseSampler, trial_rng};
+use crate::sim::noise::NoiseSampler;
 
 /// The stream index of the pilot record: no scenario has it.
 const PILOT_STREAM: usize = 1 << 40;
@@ -46,7 +46,7 @@ pub fn pilot_record(exp: &Experiment) -> Mat {
     let plant = &exp.plant;
     let sampler = NoiseSampler::new(plant, &exp.nominal, &Shape::Gaussian);
     let mut draw = sampler.workspace();
-    sampler.draw_into(&mut trial_rng(exp.seed, PILOT_STREAM, 0), &mut draw);
+    sampler.draw_trial(exp.seed, PILOT_STREAM, 0, &mut draw);
     let mut x = draw.x0.clone();
     let mut y = Mat::zeros(plant.ny(), plant.steps());
     for k in 0..plant.steps() {

@@ -3,45 +3,72 @@
 use std::path::Path;
 
 use polars::prelude::*;
+use polars::io::parquet::write::BatchedWriter;
 
 use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::pipeline::RunOutcome;
 use crate::sim::montecarlo::McStats;
 
-/// One run's part of a table.
-type Part = fn(&Experiment, &RunOutcome) -> Result<DataFrame>;
+/// One run's part of a table, handed over in batches (the gains one filter at a time, so a large
+/// run never holds the whole table in memory).
+type Part = fn(&Experiment, &RunOutcome, &mut Batches) -> Result<()>;
 
 /// The tables, by file name.
 pub const TABLES: &[(&str, Part)] = &[
-    ("summary.parquet", summary),
-    ("steps.parquet", steps),
+    ("summary.parquet", |e, o, b| b.put(summary(e, o)?)),
+    ("steps.parquet", |e, o, b| b.put(steps(e, o)?)),
     ("gains.parquet", gains),
-    ("paired.parquet", paired),
-    ("design_trace.parquet", trace),
+    ("paired.parquet", |e, o, b| b.put(paired(e, o)?)),
+    ("design_trace.parquet", |e, o, b| b.put(trace(e, o)?)),
 ];
 
+/// Rows per row group, as polars' own writer cuts a whole frame.
+const ROW_GROUP: usize = 512 * 512;
+
+/// A table being written batch by batch: each batch gets its run's `variant` column (null when the
+/// file has no variants) after `experiment` and is appended in order.
+pub struct Batches {
+    path: std::path::PathBuf,
+    file: Option<std::fs::File>,
+    writer: Option<BatchedWriter<std::fs::File>>,
+    variant: Option<String>,
+}
+
+impl Batches {
+    fn put(&mut self, mut df: DataFrame) -> Result<()> {
+        let what = self.path.display().to_string();
+        let name = "variant".into();
+        let variant = match &self.variant {
+            Some(v) => StringChunked::full(name, v, df.height()),
+            None => StringChunked::full_null(name, df.height()),
+        };
+        df.insert_column(1, variant.into_column()).map_err(|e| Error::output(&what, e))?;
+        if self.writer.is_none() {
+            let f = self.file.take().expect("a file until the first batch");
+            self.writer = Some(ParquetWriter::new(f).batched(df.schema()).map_err(|e| Error::output(&what, e))?);
+        }
+        let w = self.writer.as_mut().expect("just made");
+        for start in (0..df.height().max(1)).step_by(ROW_GROUP) {
+            w.write_batch(&df.slice(start as i64, ROW_GROUP)).map_err(|e| Error::output(&what, e))?;
+        }
+        Ok(())
+    }
+}
+
 /// Writes every table for the runs of one experiment (one run per variant): each run's rows with a
-/// `variant` column (null when the file has no variants) after `experiment`, stacked in run order.
+/// `variant` column, stacked in run order.
 pub fn write_tables(runs: &[(&Experiment, &RunOutcome)], dir: &Path) -> Result<()> {
     for (file, part) in TABLES {
         let path = dir.join(file);
         let what = path.display().to_string();
-        let mut all: Option<DataFrame> = None;
-        for (exp, out) in runs {
-            let mut df = part(exp, out)?;
-            let variant = Column::new("variant".into(), vec![exp.variant.clone(); df.height()]);
-            df.insert_column(1, variant).map_err(|e| Error::output(&what, e))?;
-            match &mut all {
-                None => all = Some(df),
-                Some(a) => {
-                    a.vstack_mut(&df).map_err(|e| Error::output(&what, e))?;
-                }
-            }
-        }
-        let mut df = all.expect("at least one run");
         let f = std::fs::File::create(&path).map_err(|e| Error::io(&path, e))?;
-        ParquetWriter::new(f).finish(&mut df).map_err(|e| Error::output(&what, e))?;
+        let mut b = Batches { path, file: Some(f), writer: None, variant: None };
+        for (exp, out) in runs {
+            b.variant = exp.variant.clone();
+            part(exp, out, &mut b)?;
+        }
+        b.writer.expect("every table has a batch per run").finish().map_err(|e| Error::output(&what, e))?;
     }
     Ok(())
 }
@@ -262,8 +289,16 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
 }
 
 /// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value; entries that
-/// are exactly zero are left out (a missing entry is 0), so sparse gains cost no rows.
-fn gains<'a>(exp: &'a Experiment, out: &RunOutcome) -> Result<DataFrame> {
+/// are exactly zero are left out (a missing entry is 0), so sparse gains cost no rows. One batch
+/// per filter.
+fn gains(exp: &Experiment, out: &RunOutcome, batches: &mut Batches) -> Result<()> {
+    for (spec, d) in exp.filters.iter().zip(&out.filters) {
+        batches.put(filter_gains(&spec.name, &d.design.realization)?)?;
+    }
+    Ok(())
+}
+
+fn filter_gains<'a>(name: &'a str, r: &crate::filter::realization::Realization) -> Result<DataFrame> {
     let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val): (Vec<&'a str>, _, _, _, _, _, _) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     let mut push = |f: &'a str, k: usize, md: Option<u32>, name: &'static str, m: &nalgebra::DMatrix<f64>| {
@@ -282,26 +317,23 @@ fn gains<'a>(exp: &'a Experiment, out: &RunOutcome) -> Result<DataFrame> {
             }
         }
     };
-    for (spec, d) in exp.filters.iter().zip(&out.filters) {
-        let r = &d.design.realization;
-        push(&spec.name, 0, None, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
-        // A mode-indexed realization has one set of gains per (step, mode); others have mode null.
-        let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if !r.is_mode_indexed() {
-            r.gains.iter().enumerate().map(|(k, g)| (k, None, &g[0])).collect()
-        } else {
-            r.gains
-                .iter()
-                .enumerate()
-                .flat_map(|(k, gs)| gs.iter().enumerate().map(move |(j, g)| (k, Some(j as u32), g)))
-                .collect()
-        };
-        for (k, md, g) in sets {
-            push(&spec.name, k, md, "Af", &g.af);
-            push(&spec.name, k, md, "Bf", &g.bf);
-            push(&spec.name, k, md, "Cf", &g.cf);
-            push(&spec.name, k, md, "Df", &g.df);
-            push(&spec.name, k, md, "Gf", &g.gf);
-        }
+    push(name, 0, None, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
+    // A mode-indexed realization has one set of gains per (step, mode); others have mode null.
+    let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if !r.is_mode_indexed() {
+        r.gains.iter().enumerate().map(|(k, g)| (k, None, &g[0])).collect()
+    } else {
+        r.gains
+            .iter()
+            .enumerate()
+            .flat_map(|(k, gs)| gs.iter().enumerate().map(move |(j, g)| (k, Some(j as u32), g)))
+            .collect()
+    };
+    for (k, md, g) in sets {
+        push(name, k, md, "Af", &g.af);
+        push(name, k, md, "Bf", &g.bf);
+        push(name, k, md, "Cf", &g.cf);
+        push(name, k, md, "Df", &g.df);
+        push(name, k, md, "Gf", &g.gf);
     }
     frame(vec![
         col("filter", fl),

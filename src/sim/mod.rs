@@ -1,5 +1,8 @@
 //! Layer 6, simulation: noise sampling and the Monte Carlo engine with its streaming statistics.
 
+pub mod block;
+mod checks;
+pub mod lanes;
 pub mod montecarlo;
 pub mod noise;
 mod plant_ops;

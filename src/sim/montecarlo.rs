@@ -1,10 +1,12 @@
 //! The Monte Carlo engine: every filter of the experiment on the same draws (common random
-//! numbers), trials in parallel with rayon, streaming per-step accumulators.
+//! numbers), blocks of trials in parallel with rayon, streaming per-step accumulators.
 //!
-//! Trials are cut into fixed blocks of [`BLOCK`] trials. A block runs sequentially into its own
-//! accumulators; blocks run in parallel; their accumulators are merged in block order. Together
-//! with per-trial random streams ([`trial_rng`]) this makes every figure bit-identical for any
-//! number of threads. Memory is O(filters × steps), independent of the number of trials.
+//! Trials are cut into fixed blocks of [`BLOCK`] trials, simulated together in lanes
+//! ([`crate::sim::block`]). A block's statistics per (filter, step) are computed over its lanes;
+//! blocks run in parallel and their statistics are merged with Chan's formula in block order.
+//! Together with per-trial random streams ([`crate::sim::noise::trial_rng`]) this makes every
+//! figure bit-identical for any number of threads. Memory is O(filters × steps), independent of
+//! the number of trials.
 
 use rayon::prelude::*;
 
@@ -12,13 +14,17 @@ use crate::analysis::exact::ErrorForm;
 use crate::filter::design::PerTrialBound;
 use crate::filter::realization::Realization;
 use crate::model::plant::Plant;
-use crate::numerics::linalg::{Mat, Vector};
-use crate::sim::noise::{NoiseSampler, TrialDraw, trial_rng};
+use crate::numerics::linalg::Mat;
+use crate::sim::block::{Workspace, simulate};
+use crate::sim::checks;
+use crate::sim::lanes::{self, LANES};
+use crate::sim::noise::NoiseSampler;
 pub use crate::sim::plant_ops::PlantOps;
 use crate::sim::stats::Welford;
 
-/// Trials per block: the unit of parallel work and of the fixed reduction order.
-pub const BLOCK: u64 = 64;
+/// Trials per block: the lanes simulated together, the unit of parallel work and of the fixed
+/// reduction order.
+pub const BLOCK: u64 = LANES as u64;
 
 /// Per-filter statistics of one scenario.
 #[derive(Clone, Debug, PartialEq)]
@@ -45,7 +51,7 @@ pub struct McStats {
 }
 
 impl McStats {
-    fn new(sc: &Scenario) -> Self {
+    pub(super) fn new(sc: &Scenario) -> Self {
         let (nf, steps) = (sc.filters.len(), sc.plant.steps());
         McStats {
             filters: (0..nf)
@@ -98,10 +104,10 @@ pub struct Scenario<'a> {
 }
 
 impl Scenario<'_> {
-    fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
+    pub(super) fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
         self.nees.get(f)?.as_deref()
     }
-    fn form(&self, f: usize) -> Option<&ErrorForm> {
+    pub(super) fn form(&self, f: usize) -> Option<&ErrorForm> {
         self.forms.get(f).and_then(Option::as_ref)
     }
 }
@@ -114,235 +120,55 @@ pub struct RatioCheck<'a> {
     pub bounds: Vec<Option<&'a PerTrialBound>>,
 }
 
-/// Preallocated per-thread buffers: one trial allocates nothing.
-pub struct Workspace {
-    draw: TrialDraw,
-    x: Vector,
-    x_next: Vector,
-    y: Vector,
-    z: Vector,
-    zhat: Vector,
-    /// e = z − ẑ of the current filter and step.
-    err: Vector,
-    s: Vec<Vector>,
-    s_next: Vec<Vector>,
-    e0: Vector,
-    wtmp: Vector,
-    /// e_z[k] of every filter (column k), kept only when a per-trial check needs the whole path.
-    ez: Vec<Mat>,
-    energy: Vec<f64>,
-    ztmp: Vector,
-}
-
-impl Workspace {
-    pub fn new(sc: &Scenario) -> Self {
-        let p = sc.plant;
-        Workspace {
-            draw: sc.sampler.workspace(),
-            x: Vector::zeros(p.nx()),
-            x_next: Vector::zeros(p.nx()),
-            y: Vector::zeros(p.ny()),
-            z: Vector::zeros(p.nz()),
-            zhat: Vector::zeros(p.nz()),
-            err: Vector::zeros(p.nz()),
-            s: sc.filters.iter().map(|r| r.s0.clone()).collect(),
-            s_next: sc.filters.iter().map(|r| r.s0.clone()).collect(),
-            e0: Vector::zeros(p.nx()),
-            wtmp: Vector::zeros(p.nw()),
-            ez: if sc.ratios.is_some() { vec![Mat::zeros(p.nz(), p.steps()); sc.filters.len()] } else { Vec::new() },
-            energy: vec![0.0; p.steps()],
-            ztmp: Vector::zeros(p.nz()),
-        }
-    }
-}
-
-/// Runs trial `trial`: draws its noise, simulates the plant, runs every filter on the same y, and
-/// calls `visit(k, f, z, ẑ, e)` for each step k and filter f, e = z − ẑ. A filter with an error
-/// form carries ε = s − M x instead of s and gets e from ε and w directly (seed-independent
-/// identity of [`crate::analysis::exact::error_form`]); its ẑ is then z − e, for display only.
-#[inline]
-pub fn run_trial(
-    sc: &Scenario,
-    ws: &mut Workspace,
-    trial: u64,
-    mut visit: impl FnMut(usize, usize, &Vector, &Vector, &Vector),
-) {
-    let mut rng = trial_rng(sc.seed, sc.index, trial);
-    sc.sampler.draw_into(&mut rng, &mut ws.draw);
-    let p = sc.plant;
-    ws.x.copy_from(&ws.draw.x0);
-    for (f, (s, r)) in ws.s.iter_mut().zip(sc.filters).enumerate() {
-        s.copy_from(&r.s0);
-        if let Some(form) = sc.form(f) {
-            s.gemv(-1.0, &form.m, &ws.x, 1.0);
-        }
-    }
-    for k in 0..p.steps() {
-        let wk = ws.draw.w.column(k);
-        let theta = ws.draw.modes[k];
-        let ops = sc.ops;
-        ops.c(k, theta).apply(1.0, &ws.x, 0.0, &mut ws.y);
-        ops.d(k, theta).apply(1.0, &wk, 1.0, &mut ws.y);
-        ops.ops[ops.cz[k]].apply(1.0, &ws.x, 0.0, &mut ws.z);
-        ops.ops[ops.dz[k]].apply(1.0, &wk, 1.0, &mut ws.z);
-        if !ops.factors.is_empty() {
-            let zeta = &ws.draw.zeta;
-            ops.add_factors(2, k, zeta, &ws.x, &mut ws.y);
-            ops.add_factors(3, k, zeta, &wk, &mut ws.y);
-            ops.add_factors(4, k, zeta, &ws.x, &mut ws.z);
-            ops.add_factors(5, k, zeta, &wk, &mut ws.z);
-        }
-        let r = p.r_at(k);
-        for (f, real) in sc.filters.iter().enumerate() {
-            let form = sc.form(f).map(|form| &form.steps[k][theta]);
-            match form {
-                None => {
-                    real.output(k, theta, &ws.s[f], &ws.y, &mut ws.zhat);
-                    ws.err.copy_from(&ws.z);
-                    ws.err -= &ws.zhat;
-                }
-                Some(a) => {
-                    ws.err.gemv(1.0, &a.h, &ws.s[f], 0.0);
-                    ws.err.gemv(1.0, &a.g, &wk, 1.0);
-                    ws.zhat.copy_from(&ws.z);
-                    ws.zhat -= &ws.err;
-                }
-            }
-            visit(k, f, &ws.z, &ws.zhat, &ws.err);
-            if let Some(ez) = ws.ez.get_mut(f) {
-                ez.column_mut(k).copy_from(&ws.err);
-            }
-            if k < p.horizon {
-                match form {
-                    None => real.advance(k, theta, &ws.s[f], &ws.y, r, &mut ws.s_next[f]),
-                    Some(a) => {
-                        let next = &mut ws.s_next[f];
-                        next.gemv(1.0, &a.f, &ws.s[f], 0.0);
-                        next.gemv(1.0, &a.e, &wk, 1.0);
-                        if let Some(r) = r {
-                            next.gemv(1.0, &a.r_map, r, 1.0);
-                        }
-                    }
-                }
-                std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
-            }
-        }
-        if k < p.horizon {
-            ops.a(k, theta).apply(1.0, &ws.x, 0.0, &mut ws.x_next);
-            ops.b(k, theta).apply(1.0, &wk, 1.0, &mut ws.x_next);
-            if !ops.factors.is_empty() {
-                ops.add_factors(0, k, &ws.draw.zeta, &ws.x, &mut ws.x_next);
-                ops.add_factors(1, k, &ws.draw.zeta, &wk, &mut ws.x_next);
-            }
-            if let Some(r) = r {
-                ws.x_next += r;
-            }
-            std::mem::swap(&mut ws.x, &mut ws.x_next);
-        }
-    }
-}
-
-/// Seed 002's per-trial promises for every filter that has one (the workspace still holds the
-/// trial's draws, its errors e_z[k] and the final states). Energies are prefix sums E_t.
-fn check_ratios(sc: &Scenario, rc: &RatioCheck, ws: &mut Workspace, plant: &Plant, stats: &mut [FilterStats]) {
-    ws.e0.copy_from(&ws.draw.x0);
-    ws.e0 -= &plant.x0_mean;
-    ws.x_next.gemv(1.0, &rc.x0_weight, &ws.e0, 0.0);
-    ws.energy[0] = ws.e0.dot(&ws.x_next);
-    for k in 0..plant.horizon {
-        let wk = ws.draw.w.column(k);
-        ws.wtmp.gemv(1.0, &rc.w_weight, &wk, 0.0);
-        ws.energy[k + 1] = ws.energy[k] + wk.dot(&ws.wtmp);
-    }
-    for (f, b) in rc.bounds.iter().enumerate() {
-        match b {
-            None => {}
-            Some(PerTrialBound::Ratio { bound, terminal_weight }) => {
-                let sum: f64 = (0..plant.horizon).map(|k| ws.ez[f].column(k).norm_squared()).sum();
-                // e = x − s; in error coordinates x − s = (I − M) x − ε, = −ε for M = I.
-                match sc.form(f) {
-                    None => ws.e0.copy_from(&ws.x),
-                    Some(form) if form.identity => ws.e0.fill(0.0),
-                    Some(form) => {
-                        ws.e0.copy_from(&ws.x);
-                        ws.e0.gemv(-1.0, &form.m, &ws.x, 1.0);
-                    }
-                }
-                ws.e0 -= &ws.s[f];
-                ws.x_next.gemv(1.0, terminal_weight, &ws.e0, 0.0);
-                let ratio = (sum + ws.e0.dot(&ws.x_next)) / ws.energy[plant.horizon];
-                stats[f].max_ratio = stats[f].max_ratio.max(ratio);
-                if ratio >= *bound {
-                    stats[f].violations += 1;
-                }
-            }
-            Some(PerTrialBound::Ellipsoid { weights }) => {
-                let mut broke = false;
-                for (k, q) in weights.iter().enumerate() {
-                    let e = ws.ez[f].column(k);
-                    ws.ztmp.gemv(1.0, q, &e, 0.0);
-                    let ratio = e.dot(&ws.ztmp) / ws.energy[k];
-                    stats[f].max_ratio = stats[f].max_ratio.max(ratio);
-                    // Equality is attained by the worst input: allow rounding only.
-                    broke |= ratio > 1.0 + 1e-9;
-                }
-                stats[f].violations += broke as u64;
-            }
-        }
-    }
-}
-
-/// eᵀ W e.
-fn weighted_square(w: &Mat, e: &Vector) -> f64 {
-    let n = e.len();
-    let mut q = 0.0;
-    for j in 0..n {
-        for i in 0..n {
-            q += e[i] * w[(i, j)] * e[j];
-        }
-    }
-    q
-}
-
-fn squared_error(e: &Vector) -> f64 {
-    e.iter().map(|v| v * v).sum()
-}
-
-fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, last: u64) -> McStats {
+/// Runs block `first..first + active` and returns its statistics: per (filter, step) the mean and
+/// spread over the block's lanes ([`Welford::of`]), ready to be merged in block order.
+pub fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -> McStats {
     let nf = sc.filters.len();
     let mut st = McStats::new(sc);
-    let pairs = McStats::pairs(nf);
     let plant = sc.plant;
-    let mut totals = vec![0.0; nf];
-    for t in first..last {
-        totals.fill(0.0);
-        let per_filter = &mut st.filters;
-        run_trial(sc, ws, t, |k, f, _, _, e| {
-            let e2 = squared_error(e);
-            per_filter[f].steps[k].push(e2);
-            if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
-                per_filter[f].nees[k].push(weighted_square(w, e));
+    let mut totals = vec![[0.0; LANES]; nf];
+    let mut sums = vec![[0.0; LANES]; if sc.ratios.is_some() { nf } else { 0 }];
+    let mut broke = vec![[0.0; LANES]; sums.len()];
+    let mut e2 = [0.0; LANES];
+    let mut q = [0.0; LANES];
+    let per_filter = &mut st.filters;
+    simulate(sc, ws, first, active, |v| {
+        let (k, f, e) = (v.k, v.f, v.e);
+        lanes::squared_norm(e, &mut e2);
+        let acc = &mut per_filter[f];
+        acc.steps[k] = Welford::of(&e2[..active]);
+        if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
+            lanes::quadratic(w, e, &mut q);
+            acc.nees[k] = Welford::of(&q[..active]);
+        }
+        if plant.counts(k) {
+            lanes::axpy(1.0, &e2, &mut totals[f]);
+        }
+        if sc.ratios.is_some() {
+            if k < plant.horizon {
+                lanes::axpy(1.0, &e2, &mut sums[f]);
             }
-            if plant.counts(k) {
-                totals[f] += e2;
-            }
-        });
-        if let Some(rc) = sc.ratios {
-            check_ratios(sc, rc, ws, plant, &mut st.filters);
+            checks::ellipsoid(sc, f, k, e, v.energy, active, acc, &mut broke[f]);
         }
-        for (acc, v) in st.filters.iter_mut().zip(&totals) {
-            acc.total.push(*v);
-        }
-        for (acc, &(i, j)) in st.paired.iter_mut().zip(&pairs) {
-            acc.push(totals[i] - totals[j]);
-        }
+    });
+    for f in 0..sums.len() {
+        checks::terminal(sc, ws, f, &sums[f], active, &mut st.filters[f]);
+        st.filters[f].violations += broke[f][..active].iter().filter(|b| **b != 0.0).count() as u64;
+    }
+    for (acc, v) in st.filters.iter_mut().zip(&totals) {
+        acc.total = Welford::of(&v[..active]);
+    }
+    for (acc, (i, j)) in st.paired.iter_mut().zip(McStats::pairs(nf)) {
+        let mut d = [0.0; LANES];
+        lanes::difference(&totals[i..=i], &totals[j..=j], std::slice::from_mut(&mut d));
+        *acc = Welford::of(&d[..active]);
     }
     st
 }
 
 /// Blocks run in parallel per wave; a wave's results are merged before the next starts, so memory
 /// stays bounded by `WAVE` accumulators whatever the number of trials.
-const WAVE: u64 = 256;
+pub const WAVE: u64 = 256;
 
 /// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
 /// number of trials finished by each block.
@@ -356,7 +182,7 @@ pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McSta
                 || Workspace::new(sc),
                 |ws, b| {
                     let (first, last) = (b * BLOCK, ((b + 1) * BLOCK).min(trials));
-                    let st = run_block(sc, ws, first, last);
+                    let st = run_block(sc, ws, first, (last - first) as usize);
                     progress(last - first);
                     st
                 },
@@ -379,26 +205,30 @@ pub struct Trajectory {
     pub modes: Vec<usize>,
 }
 
-/// Re-runs trials 0..count (same streams as in [`run`]) and records their trajectories.
+/// Re-runs trials 0..count (same streams and blocks as in [`run`]) and records their trajectories.
 pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
     let mut ws = Workspace::new(sc);
     let (nz, steps) = (sc.plant.nz(), sc.plant.steps());
-    (0..count)
-        .map(|t| {
-            let mut tr = Trajectory {
-                trial: t,
-                z: Mat::zeros(nz, steps),
-                zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
-                modes: Vec::new(),
-            };
-            run_trial(sc, &mut ws, t, |k, f, z, zhat, _| {
-                if f == 0 {
-                    tr.z.set_column(k, z);
-                }
-                tr.zhat[f].set_column(k, zhat);
-            });
-            tr.modes = ws.draw.modes.clone();
-            tr
+    let mut out: Vec<Trajectory> = (0..count)
+        .map(|t| Trajectory {
+            trial: t,
+            z: Mat::zeros(nz, steps),
+            zhat: vec![Mat::zeros(nz, steps); sc.filters.len()],
+            modes: vec![0; steps],
         })
-        .collect()
+        .collect();
+    for (b, block) in out.chunks_mut(LANES).enumerate() {
+        simulate(sc, &mut ws, b as u64 * BLOCK, block.len(), |v| {
+            for (l, tr) in block.iter_mut().enumerate() {
+                for i in 0..nz {
+                    if v.f == 0 {
+                        tr.z[(i, v.k)] = v.z[i][l];
+                    }
+                    tr.zhat[v.f][(i, v.k)] = v.zhat[i][l];
+                }
+                tr.modes[v.k] = v.modes[l] as usize;
+            }
+        });
+    }
+    out
 }

@@ -3,7 +3,7 @@
 use std::borrow::Cow;
 
 use crate::model::plant::Plant;
-use crate::numerics::linalg::{Mat, Vector};
+use crate::numerics::linalg::Mat;
 use crate::numerics::linop::LinOp;
 
 /// The plant's matrices as [`LinOp`]s (sparse when large and mostly zero), each distinct matrix
@@ -75,30 +75,6 @@ impl PlantOps {
             })
             .collect();
         PlantOps { ops, modes, a, b, c, d, cz, dz, factors }
-    }
-    /// Adds Σ_i ζ_i(k) M_i x to `out` for the matrix `which` (0 = A, …, 5 = Dz) of every factor.
-    #[inline]
-    pub(super) fn add_factors<S>(
-        &self,
-        which: usize,
-        k: usize,
-        zeta: &Mat,
-        x: &nalgebra::Matrix<f64, nalgebra::Dyn, nalgebra::U1, S>,
-        out: &mut Vector,
-    ) where
-        S: nalgebra::storage::Storage<
-                f64,
-                nalgebra::Dyn,
-                nalgebra::U1,
-                RStride = nalgebra::U1,
-                CStride = nalgebra::Dyn,
-            >,
-    {
-        for (i, f) in self.factors.iter().enumerate() {
-            if let Some(op) = f[k][which] {
-                self.ops[op].apply(zeta[(i, k)], x, 1.0, out);
-            }
-        }
     }
     pub(super) fn a(&self, k: usize, mode: usize) -> &LinOp {
         &self.ops[self.a[k * self.modes + mode]]

@@ -14,7 +14,7 @@ use filterbench::config::{self, Experiment, Pattern};
 use filterbench::families::{anisotropic, intermittent, kalman};
 use filterbench::model::shape::Shape;
 use filterbench::numerics::linalg::{Mat, Vector, block_diag, psd_factor};
-use filterbench::sim::noise::{JointInput, NoiseSampler, trial_rng};
+use filterbench::sim::noise::{JointInput, NoiseSampler};
 
 use crate::common;
 
@@ -148,8 +148,7 @@ fn coloured_and_worst_generators_hit_anisotropy_power_and_covariance() {
         let lw = sigma.nrows();
         let mut acc = Mat::zeros(lw, lw);
         for t in 0..n {
-            let mut rng = trial_rng(5, 0, t);
-            sampler.draw_into(&mut rng, &mut draw);
+            sampler.draw_trial(5, 0, t, &mut draw);
             let v = Vector::from_column_slice(draw.w.as_slice());
             acc += &v * v.transpose();
         }

@@ -1,4 +1,8 @@
-//! Results are bit-identical for any number of threads.
+//! Results are bit-identical for any number of threads: every accumulator of the lane engine (per
+//! step, NEES, totals, paired differences, the per-trial checks' maximum ratio and violations) and
+//! every sample trajectory, on plants that exercise each feature of the trial loop; and the engine
+//! draws trial i exactly what the per-trial draw of (seed, scenario, i) gives, whichever block and
+//! lane it lands in.
 use crate::common::Patch;
 
 use filterbench::pipeline;
@@ -27,22 +31,87 @@ fn identical_bits_with_dropouts_and_anisotropic_inputs() {
     identical(&exp);
 }
 
+#[test]
+fn identical_bits_with_per_trial_checks_joint_inputs_and_error_coordinates() {
+    // hinf_tradeoff: per-trial H∞/H2 checks, ellipsoid and worst-case joint inputs, filters run in
+    // error coordinates; 1000 trials = 15 full lane blocks and a partial one.
+    identical(&common::load("hinf_tradeoff", 1000));
+}
+
+#[test]
+fn identical_bits_with_multiplicative_noise_and_dropouts() {
+    use crate::time_varying::{parse, plant_text};
+    let factors = "arrival = 0.85\n[[plant.multiplicative]]\nname = \"gust\"\nshape = \"uniform\"\n\
+                   A = [[0.1, 0.05], [0.0, 0.15]]\nC = [[0.3, 0.0]]\n";
+    let kalman = "[[filters]]\nname = \"kalman\"\nfamily = \"kalman\"\n";
+    let scenarios = "[[scenarios]]\nname = \"laplace\"\nshape = \"laplace\"\n";
+    let mut exp = parse(&plant_text("prediction", 30, false, factors, kalman, scenarios));
+    exp.trials = 333;
+    identical(&exp);
+}
+
+/// Every figure of the Monte Carlo statistics, as bits.
+fn bits(mc: &filterbench::sim::montecarlo::McStats) -> Vec<u64> {
+    let w = |w: &filterbench::sim::stats::Welford| [w.n, w.mean.to_bits(), w.variance().to_bits()];
+    let mut out = Vec::new();
+    for f in &mc.filters {
+        out.extend(w(&f.total));
+        out.extend(f.steps.iter().chain(&f.nees).flat_map(w));
+        out.extend([f.max_ratio.to_bits(), f.violations]);
+    }
+    out.extend(mc.paired.iter().flat_map(w));
+    out
+}
+
 fn identical(exp: &filterbench::config::Experiment) {
     let a = run_with(1, exp);
     let b = run_with(2, exp);
     assert_eq!(a.threads, 1);
     assert_eq!(b.threads, 2);
     for (x, y) in a.scenarios.iter().zip(&b.scenarios) {
-        assert!(x.mc == y.mc, "scenario {}: statistics differ between 1 and 2 threads", x.name);
-        for (f, (p, q)) in x.mc.filters.iter().zip(&y.mc.filters).enumerate() {
-            assert_eq!(p.total.mean.to_bits(), q.total.mean.to_bits(), "filter {f}");
-            assert_eq!(p.total.variance().to_bits(), q.total.variance().to_bits(), "filter {f}");
-        }
+        assert!(x.mc.filters[0].total.n == exp.trials as u64);
+        assert_eq!(bits(&x.mc), bits(&y.mc), "scenario {}: statistics differ between 1 and 2 threads", x.name);
+        assert_eq!(x.trajectories.len(), y.trajectories.len());
         for (t, u) in x.trajectories.iter().zip(&y.trajectories) {
-            assert_eq!(t.z, u.z);
+            let b = |m: &filterbench::numerics::linalg::Mat| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(b(&t.z), b(&u.z));
+            for (p, q) in t.zhat.iter().zip(&u.zhat) {
+                assert_eq!(b(p), b(q));
+            }
+            assert_eq!(t.modes, u.modes);
         }
         for (p, q) in x.exact.iter().zip(&y.exact) {
             assert_eq!(p.total.to_bits(), q.total.to_bits(), "scenario {}: exact error", x.name);
         }
     }
+}
+
+#[test]
+fn a_trial_draws_the_same_in_any_lane() {
+    // Trial 70 is lane 6 of block 1 in the engine and lane 0 when drawn alone; a plant with modes
+    // and a multiplicative factor draws all three streams.
+    use crate::time_varying::{parse, plant_text};
+    use filterbench::sim::noise::NoiseSampler;
+    let factors = "arrival = 0.6\n[[plant.multiplicative]]\nname = \"gust\"\nA = [[0.1, 0.05], [0.0, 0.15]]\n";
+    let kalman = "[[filters]]\nname = \"kalman\"\nfamily = \"kalman\"\n";
+    let exp = parse(&plant_text("prediction", 12, false, factors, kalman, "[[scenarios]]\nname = \"n\"\n"));
+    let sampler = NoiseSampler::new(&exp.plant, &exp.nominal, &exp.scenarios[0].shape);
+    let mut one = sampler.workspace();
+    sampler.draw_trial(exp.seed, 2, 70, &mut one);
+    let mut block = sampler.lanes();
+    sampler.start(exp.seed, 2, 64, 64, &mut block);
+    for (i, r) in block.x0.iter().enumerate() {
+        assert_eq!(r[6].to_bits(), one.x0[i].to_bits());
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for k in 0..exp.plant.steps() {
+        sampler.step(k, &mut block);
+        for (i, r) in block.w.iter().enumerate() {
+            assert_eq!(r[6].to_bits(), one.w[(i, k)].to_bits(), "w[{k}]");
+        }
+        assert_eq!(block.modes[6] as usize, one.modes[k]);
+        seen.insert(one.modes[k]);
+        assert_eq!(block.zeta[0][6].to_bits(), one.zeta[(0, k)].to_bits());
+    }
+    assert_eq!(seen.len(), 2, "both modes occur, so the mode stream is exercised");
 }

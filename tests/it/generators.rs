@@ -7,7 +7,7 @@ use filterbench::model::plant::Covariances;
 use filterbench::model::shape::Shape;
 use filterbench::model::uncertainty::{CovSet, SetShape};
 use filterbench::pipeline;
-use filterbench::sim::noise::{NoiseSampler, trial_rng};
+use filterbench::sim::noise::NoiseSampler;
 
 use crate::common;
 
@@ -62,8 +62,7 @@ fn check_shape(shape: &Shape) {
     let mut w = Moments::new(exp.plant.nw());
     let mut x0 = Moments::new(exp.plant.nx());
     for t in 0..20_000u64 {
-        let mut rng = trial_rng(99, 3, t);
-        sampler.draw_into(&mut rng, &mut ws);
+        sampler.draw_trial(99, 3, t, &mut ws);
         x0.push(|i| ws.x0[i] - exp.plant.x0_mean[i]);
         for k in 0..ws.w.ncols() {
             w.push(|i| ws.w[(i, k)]);

@@ -45,7 +45,7 @@ fn per_mode_mc(
     trials: u64,
 ) -> Vec<filterbench::sim::stats::Welford> {
     use filterbench::numerics::linalg::Vector;
-    use filterbench::sim::noise::{NoiseSampler, trial_rng};
+    use filterbench::sim::noise::NoiseSampler;
     let p = &exp.plant;
     let sampler = NoiseSampler::new(p, &exp.nominal, &exp.scenarios[0].shape);
     let mut draw = sampler.workspace();
@@ -53,7 +53,7 @@ fn per_mode_mc(
     let mut acc = vec![filterbench::sim::stats::Welford::default(); q];
     let (mut y, mut z, mut zhat) = (Vector::zeros(p.ny()), Vector::zeros(p.nz()), Vector::zeros(p.nz()));
     for t in 0..trials {
-        sampler.draw_into(&mut trial_rng(exp.seed, 0, t), &mut draw);
+        sampler.draw_trial(exp.seed, 0, t, &mut draw);
         let mut x = draw.x0.clone();
         let mut s = real.s0.clone();
         let mut sums = vec![0.0; q];

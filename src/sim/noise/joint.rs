@@ -1,13 +1,14 @@
 //! Inputs drawn jointly over the whole horizon (SPEC §7; seed 002 §2): ξ = col(x0 − E x0,
 //! w[0..N−1]) with w[N] = 0, either with a full (not white) covariance, uniformly on or inside the
 //! weighted ellipsoid ξᵀK⁻¹ξ ≤ 1, or fixed (a filter's worst case). The factor is computed once per
-//! scenario; a trial draws into preallocated buffers.
+//! scenario; a block of lanes draws into preallocated buffers and is mapped with one product.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal, Uniform};
 
 use crate::numerics::linalg::{Mat, Vector, psd_factor};
+use crate::sim::lanes::{self, LANES, Row};
 
 #[derive(Clone, Debug)]
 pub enum JointInput {
@@ -62,25 +63,29 @@ impl JointInput {
         }
     }
 
-    /// Writes one ξ into `xi`, drawing from `rng` (`u` is scratch of size dim; `std` the shape's
-    /// standardized draw, used by the correlated kind).
-    pub fn draw<R: rand::Rng + ?Sized>(
+    /// Draws lane `lane`'s standardized vector into column `lane` of `u` (dim rows) from `rng`:
+    /// i.i.d. draws of the scenario's shape (`std`) for the correlated kind, a Gaussian direction
+    /// scaled to the ellipsoid's radius for the ellipsoid kinds; [`JointInput::map`] then turns the
+    /// whole block into ξ with one product.
+    pub(super) fn draw_lane<R: rand::Rng + ?Sized>(
         &self,
         rng: &mut R,
         std: &crate::model::shape::StandardDraw,
-        u: &mut Vector,
-        xi: &mut Vector,
+        lane: usize,
+        u: &mut [Row],
     ) {
         match self {
-            JointInput::Correlated { factor } => {
-                for v in u.iter_mut() {
-                    *v = std.draw(rng);
+            JointInput::Correlated { .. } => {
+                for r in u.iter_mut() {
+                    r[lane] = std.draw(rng);
                 }
-                xi.gemv(1.0, factor, u, 0.0);
             }
-            JointInput::Ellipsoid { k_half, surface } => {
-                for v in u.iter_mut() {
-                    *v = StandardNormal.sample(rng);
+            JointInput::Ellipsoid { surface, .. } => {
+                let mut norm2 = 0.0;
+                for r in u.iter_mut() {
+                    let v: f64 = StandardNormal.sample(rng);
+                    r[lane] = v;
+                    norm2 += v * v;
                 }
                 let radius = if *surface {
                     1.0
@@ -88,10 +93,25 @@ impl JointInput {
                     let r: f64 = Uniform::new(0.0, 1.0).expect("valid interval").sample(rng);
                     r.powf(1.0 / u.len() as f64)
                 };
-                let scale = radius / u.norm();
-                xi.gemv(scale, k_half, u, 0.0);
+                let scale = radius / norm2.sqrt();
+                for r in u.iter_mut() {
+                    r[lane] *= scale;
+                }
             }
-            JointInput::Fixed { xi: fixed } => xi.copy_from(fixed),
+            JointInput::Fixed { .. } => {}
+        }
+    }
+
+    /// ξ of every lane from the lanes' standardized draws: factor·u, K^½·u, or the fixed ξ.
+    pub(super) fn map(&self, u: &[Row], xi: &mut [Row]) {
+        match self {
+            JointInput::Correlated { factor } => lanes::gemm(factor, u, false, xi),
+            JointInput::Ellipsoid { k_half, .. } => lanes::gemm(k_half, u, false, xi),
+            JointInput::Fixed { xi: fixed } => {
+                for (r, v) in xi.iter_mut().zip(fixed.iter()) {
+                    *r = [*v; LANES];
+                }
+            }
         }
     }
 }

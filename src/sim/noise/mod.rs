@@ -6,4 +6,4 @@ mod joint;
 mod sampler;
 
 pub use joint::JointInput;
-pub use sampler::{NoiseSampler, TrialDraw, trial_rng};
+pub use sampler::{LaneDraw, NoiseSampler, Stream, TrialDraw, TrialRng, trial_rng};

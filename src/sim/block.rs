@@ -1,0 +1,274 @@
+//! One block of [`LANES`] trials simulated together (SPEC §6): the plant
+//! x[k+1] = A_θ x + B_θ w + Σ_i ζ_i (A_i x + B_i w) + r, y = C_θ x + D_θ w + …, z = Cz x + Dz w + …
+//! (seed 003 (3.1) for the factors, seed 001 (1) for the modes), and every filter on the same y
+//! (common random numbers), s[k+1] = Af s + Bf y + Gf r, ẑ = Cf s + Df y, or in error coordinates
+//! ε[k+1] = F ε + E w + R r, e = H ε + G w ([`crate::analysis::exact::error_form`]).
+//! Each step is a few products of a matrix with the block's n × LANES lane matrices.
+
+use crate::analysis::exact::ErrorForm;
+use crate::numerics::linalg::Mat;
+use crate::numerics::linop::LinOp;
+use crate::sim::lanes::{self, LANES, Row};
+use crate::sim::montecarlo::Scenario;
+use crate::sim::noise::LaneDraw;
+
+/// Preallocated per-thread buffers: a block allocates nothing.
+pub struct Workspace {
+    pub draw: LaneDraw,
+    pub(super) x: Vec<Row>,
+    x_next: Vec<Row>,
+    y: Vec<Row>,
+    z: Vec<Row>,
+    zhat: Vec<Row>,
+    /// e = z − ẑ of the current filter and step.
+    err: Vec<Row>,
+    /// Each filter's state (or error state ε) at the current step.
+    pub(super) s: Vec<Vec<Row>>,
+    s_next: Vec<Vec<Row>>,
+    /// r[k] in every lane.
+    r: Vec<Row>,
+    tmp: Vec<Row>,
+    /// Two vectors' room (of the plant's state size or more) for the per-trial checks.
+    pub(super) scratch: Vec<Row>,
+    /// Input energy E_k of each lane so far (seed 002's per-trial checks).
+    pub(super) energy: Row,
+}
+
+impl Workspace {
+    pub fn new(sc: &Scenario) -> Self {
+        let p = sc.plant;
+        let ns = sc.filters.iter().map(|r| r.ns()).max().unwrap_or(0);
+        let wide = p.nx().max(p.ny()).max(p.nz()).max(p.nw()).max(ns);
+        Workspace {
+            draw: sc.sampler.lanes(),
+            x: lanes::zeros(p.nx()),
+            x_next: lanes::zeros(p.nx()),
+            y: lanes::zeros(p.ny()),
+            z: lanes::zeros(p.nz()),
+            zhat: lanes::zeros(p.nz()),
+            err: lanes::zeros(p.nz()),
+            s: sc.filters.iter().map(|r| lanes::zeros(r.ns())).collect(),
+            s_next: sc.filters.iter().map(|r| lanes::zeros(r.ns())).collect(),
+            r: lanes::zeros(p.nx()),
+            tmp: lanes::zeros(wide),
+            scratch: lanes::zeros(2 * wide),
+            energy: [0.0; LANES],
+        }
+    }
+}
+
+/// A matrix of the trial loop: a plant operator (dense or CSR) or a filter's dense gain.
+#[derive(Clone, Copy)]
+enum Op<'a> {
+    Lin(&'a LinOp),
+    Dense(&'a Mat),
+}
+
+impl Op<'_> {
+    #[inline(always)]
+    fn apply(self, x: &[Row], add: bool, out: &mut [Row]) {
+        match self {
+            Op::Lin(op) => lanes::apply(op, x, add, out),
+            Op::Dense(m) => lanes::gemm(m, x, add, out),
+        }
+    }
+    fn addr(self) -> *const () {
+        match self {
+            Op::Lin(op) => op as *const LinOp as *const (),
+            Op::Dense(m) => m as *const Mat as *const (),
+        }
+    }
+}
+
+/// out ← M_θ x (`add`: out + M_θ x), lane l using the matrix of its mode θ_l. One product when the
+/// matrix does not depend on the mode or every active lane is in the same mode; otherwise one
+/// product per mode, each kept where the lane is in that mode.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn by_mode<'a>(
+    modes: &[u32; LANES],
+    active: usize,
+    n_modes: usize,
+    op: impl Fn(usize) -> Op<'a>,
+    x: &[Row],
+    add: bool,
+    out: &mut [Row],
+    tmp: &mut [Row],
+) {
+    let first = op(0);
+    if n_modes == 1 || (1..n_modes).all(|m| op(m).addr() == first.addr()) {
+        return first.apply(x, add, out);
+    }
+    let m0 = modes[0];
+    if modes[..active].iter().all(|&m| m == m0) {
+        return op(m0 as usize).apply(x, add, out);
+    }
+    let tmp = &mut tmp[..out.len()];
+    for m in 0..n_modes {
+        if modes[..active].contains(&(m as u32)) {
+            op(m).apply(x, false, tmp);
+            lanes::select(modes, m as u32, tmp, add, out);
+        }
+    }
+}
+
+/// Adds Σ_i ζ_i(k) M_i x to `out` for the matrix `which` (0 = A, …, 5 = Dz) of every factor.
+#[inline(always)]
+fn add_factors(sc: &Scenario, which: usize, k: usize, zeta: &[Row], x: &[Row], out: &mut [Row], tmp: &mut [Row]) {
+    let ops = sc.ops;
+    for (i, f) in ops.factors.iter().enumerate() {
+        if let Some(op) = f[k][which] {
+            let tmp = &mut tmp[..out.len()];
+            lanes::apply(&ops.ops[op], x, false, tmp);
+            lanes::add_scaled(&zeta[i], tmp, out);
+        }
+    }
+}
+
+/// What the engine shows of step k and filter f, over the block's lanes.
+pub struct StepView<'a> {
+    pub k: usize,
+    pub f: usize,
+    pub z: &'a [Row],
+    pub zhat: &'a [Row],
+    /// e = z − ẑ.
+    pub e: &'a [Row],
+    /// The lanes' input energy E_k before w[k] (maintained only with per-trial checks).
+    pub energy: &'a Row,
+    /// θ[k] per lane.
+    pub modes: &'a [u32; LANES],
+}
+
+/// Simulates trials first..first+active in the lanes of `ws` and calls `visit` for each step k and
+/// filter f. A filter with an error form carries ε = s − M x instead of s and
+/// gets e from ε and w directly; its ẑ is then z − e, for display only. On return `ws` holds
+/// x[N] and every filter's final state.
+pub fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { simulate_avx2(sc, ws, first, active, visit) };
+    }
+    simulate_lanes(sc, ws, first, active, visit)
+}
+
+/// [`simulate`] compiled for AVX2: four lanes per instruction instead of SSE2's two. Rust never
+/// fuses a·b + c, so each lane's arithmetic, and every figure, is the same bits either way.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn simulate_avx2(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
+    simulate_lanes(sc, ws, first, active, visit)
+}
+
+#[inline(always)]
+fn simulate_lanes(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    first: u64,
+    active: usize,
+    mut visit: impl FnMut(StepView),
+) {
+    let p = sc.plant;
+    let ops = sc.ops;
+    let nm = ops.modes;
+    sc.sampler.start(sc.seed, sc.index, first, active, &mut ws.draw);
+    ws.x.copy_from_slice(&ws.draw.x0);
+    if let Some(rc) = sc.ratios {
+        let e0 = &mut ws.scratch[..p.nx()];
+        e0.copy_from_slice(&ws.x);
+        lanes::add_vector(-1.0, p.x0_mean.as_slice(), e0);
+        lanes::quadratic(&rc.x0_weight, e0, &mut ws.energy);
+    }
+    for (f, (s, r)) in ws.s.iter_mut().zip(sc.filters).enumerate() {
+        for (row, &v) in s.iter_mut().zip(r.s0.iter()) {
+            *row = [v; LANES];
+        }
+        if let Some(form) = sc.form(f) {
+            let t = &mut ws.tmp[..s.len()];
+            lanes::gemm(&form.m, &ws.x, false, t);
+            lanes::subtract(t, s);
+        }
+    }
+    for k in 0..p.steps() {
+        sc.sampler.step(k, &mut ws.draw);
+        let (draw, modes) = (&ws.draw, &ws.draw.modes);
+        let w = &draw.w;
+        by_mode(modes, active, nm, |m| Op::Lin(ops.c(k, m)), &ws.x, false, &mut ws.y, &mut ws.tmp);
+        by_mode(modes, active, nm, |m| Op::Lin(ops.d(k, m)), w, true, &mut ws.y, &mut ws.tmp);
+        lanes::apply(&ops.ops[ops.cz[k]], &ws.x, false, &mut ws.z);
+        lanes::apply(&ops.ops[ops.dz[k]], w, true, &mut ws.z);
+        if !ops.factors.is_empty() {
+            let zeta = &draw.zeta;
+            add_factors(sc, 2, k, zeta, &ws.x, &mut ws.y, &mut ws.tmp);
+            add_factors(sc, 3, k, zeta, w, &mut ws.y, &mut ws.tmp);
+            add_factors(sc, 4, k, zeta, &ws.x, &mut ws.z, &mut ws.tmp);
+            add_factors(sc, 5, k, zeta, w, &mut ws.z, &mut ws.tmp);
+        }
+        let r = p.r_at(k);
+        if let Some(r) = r {
+            for (row, &v) in ws.r.iter_mut().zip(r.iter()) {
+                *row = [v; LANES];
+            }
+        }
+        for (f, real) in sc.filters.iter().enumerate() {
+            let form: Option<&ErrorForm> = sc.form(f);
+            let s = &ws.s[f];
+            match form {
+                None => {
+                    let g = |m| real.gains(k, m);
+                    by_mode(modes, active, nm, |m| Op::Dense(&g(m).cf), s, false, &mut ws.zhat, &mut ws.tmp);
+                    by_mode(modes, active, nm, |m| Op::Dense(&g(m).df), &ws.y, true, &mut ws.zhat, &mut ws.tmp);
+                    lanes::difference(&ws.z, &ws.zhat, &mut ws.err);
+                }
+                Some(fm) => {
+                    let a = |m: usize| &fm.steps[k][m];
+                    by_mode(modes, active, nm, |m| Op::Dense(&a(m).h), s, false, &mut ws.err, &mut ws.tmp);
+                    by_mode(modes, active, nm, |m| Op::Dense(&a(m).g), w, true, &mut ws.err, &mut ws.tmp);
+                    lanes::difference(&ws.z, &ws.err, &mut ws.zhat);
+                }
+            }
+            visit(StepView { k, f, z: &ws.z, zhat: &ws.zhat, e: &ws.err, energy: &ws.energy, modes });
+            if k < p.horizon {
+                let next = &mut ws.s_next[f];
+                match form {
+                    None => {
+                        let g = |m| real.gains(k, m);
+                        by_mode(modes, active, nm, |m| Op::Dense(&g(m).af), s, false, next, &mut ws.tmp);
+                        by_mode(modes, active, nm, |m| Op::Dense(&g(m).bf), &ws.y, true, next, &mut ws.tmp);
+                        if r.is_some() {
+                            by_mode(modes, active, nm, |m| Op::Dense(&g(m).gf), &ws.r, true, next, &mut ws.tmp);
+                        }
+                    }
+                    Some(fm) => {
+                        let a = |m: usize| &fm.steps[k][m];
+                        by_mode(modes, active, nm, |m| Op::Dense(&a(m).f), s, false, next, &mut ws.tmp);
+                        by_mode(modes, active, nm, |m| Op::Dense(&a(m).e), w, true, next, &mut ws.tmp);
+                        if r.is_some() {
+                            by_mode(modes, active, nm, |m| Op::Dense(&a(m).r_map), &ws.r, true, next, &mut ws.tmp);
+                        }
+                    }
+                }
+                std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
+            }
+        }
+        if k < p.horizon {
+            by_mode(modes, active, nm, |m| Op::Lin(ops.a(k, m)), &ws.x, false, &mut ws.x_next, &mut ws.tmp);
+            by_mode(modes, active, nm, |m| Op::Lin(ops.b(k, m)), w, true, &mut ws.x_next, &mut ws.tmp);
+            if !ops.factors.is_empty() {
+                add_factors(sc, 0, k, &draw.zeta, &ws.x, &mut ws.x_next, &mut ws.tmp);
+                add_factors(sc, 1, k, &draw.zeta, w, &mut ws.x_next, &mut ws.tmp);
+            }
+            if let Some(r) = r {
+                lanes::add_vector(1.0, r.as_slice(), &mut ws.x_next);
+            }
+            std::mem::swap(&mut ws.x, &mut ws.x_next);
+            if let Some(rc) = sc.ratios {
+                let mut q = [0.0; LANES];
+                lanes::quadratic(&rc.w_weight, w, &mut q);
+                for (e, q) in ws.energy.iter_mut().zip(&q) {
+                    *e += q;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! Trials in lanes: the engine simulates [`LANES`] trials at once, a vector v of n components as n
+//! rows of [`LANES`] values (row i holds component i of every lane's v: the lanes' vectors are the
+//! columns of an n × LANES matrix stored row by row). One step of the plant or a filter is then a
+//! few matrix–matrix products M·V whose inner loop runs over contiguous lanes and vectorizes, and
+//! each matrix is read once per block instead of once per trial.
+//!
+//! The kernels here compute M V column by column in exact arithmetic order Σ_j M_ij V_j (j
+//! ascending) for small matrices, skipping zero entries (the plant's stacked B = [B 0] and
+//! D = [0 D], the string's 2×2 modal blocks in CSR): a lane's result never depends on the other
+//! lanes, so any split of trials into blocks gives the same per-trial numbers.
+
+use nalgebra::{DMatrixView, DMatrixViewMut};
+
+use crate::numerics::linalg::Mat;
+use crate::numerics::linop::LinOp;
+
+/// Trials per lane block: the unit of simulation, drawing and of the fixed reduction order.
+/// Chosen by measurement (`filterbench bench`, docs/architecture.md): 16 and 32 lanes pay the
+/// per-matrix overhead of each product more often (5.3–5.5 and 4.4–4.8 µs per trial of Example 2's
+/// plant against 4.0–4.4 µs at 64); 128 lanes are no faster (3.9–4.0 µs, within the machine's
+/// noise) and double every per-thread buffer.
+pub const LANES: usize = 64;
+
+/// One component of a vector across the lanes.
+pub type Row = [f64; LANES];
+
+/// A lane vector of `n` components, all zero.
+pub fn zeros(n: usize) -> Vec<Row> {
+    vec![[0.0; LANES]; n]
+}
+
+/// Dense matrices with at least this many entries go through matrixmultiply (blocked, packed);
+/// smaller ones through the zero-skipping loop below, which has no packing cost.
+const BLOCKED_MIN_ENTRIES: usize = 4096;
+
+/// out ← M x (`add`: out ← out + M x) for a dense M, x with M.ncols() rows.
+#[inline(always)]
+pub fn gemm(m: &Mat, x: &[Row], add: bool, out: &mut [Row]) {
+    debug_assert!(x.len() == m.ncols() && out.len() == m.nrows());
+    if m.len() >= BLOCKED_MIN_ENTRIES {
+        let xs = DMatrixView::from_slice_with_strides(x.as_flattened(), x.len(), LANES, LANES, 1);
+        let n = out.len();
+        let mut os = DMatrixViewMut::from_slice_with_strides_mut(out.as_flattened_mut(), n, LANES, LANES, 1);
+        os.gemm(1.0, m, &xs, if add { 1.0 } else { 0.0 });
+        return;
+    }
+    for (i, o) in out.iter_mut().enumerate() {
+        if !add {
+            *o = [0.0; LANES];
+        }
+        for (j, xj) in x.iter().enumerate() {
+            let a = m[(i, j)];
+            if a != 0.0 {
+                axpy(a, xj, o);
+            }
+        }
+    }
+}
+
+/// out ← out + a·x over the lanes.
+#[inline(always)]
+pub fn axpy(a: f64, x: &Row, out: &mut Row) {
+    for (o, v) in out.iter_mut().zip(x) {
+        *o += a * v;
+    }
+}
+
+/// out ← M x (`add`: out + M x) for a plant operator, dense or CSR.
+#[inline(always)]
+pub fn apply(op: &LinOp, x: &[Row], add: bool, out: &mut [Row]) {
+    match op {
+        LinOp::Dense(m) => gemm(m, x, add, out),
+        LinOp::Sparse(m) => {
+            let (offsets, cols, vals) = m.csr_data();
+            for (i, o) in out.iter_mut().enumerate() {
+                if !add {
+                    *o = [0.0; LANES];
+                }
+                for p in offsets[i]..offsets[i + 1] {
+                    axpy(vals[p], &x[cols[p]], o);
+                }
+            }
+        }
+    }
+}
+
+/// out ← out + c ⊙ t row by row: a per-lane coefficient (a multiplicative factor's ζ_i(k)).
+#[inline(always)]
+pub fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
+    for (o, r) in out.iter_mut().zip(t) {
+        for ((o, v), c) in o.iter_mut().zip(r).zip(c) {
+            *o += c * v;
+        }
+    }
+}
+
+/// out ← out + α v in every lane (a known input r[k], a mean).
+#[inline(always)]
+pub fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
+    for (o, &a) in out.iter_mut().zip(v) {
+        for x in o.iter_mut() {
+            *x += alpha * a;
+        }
+    }
+}
+
+/// out ← out − t.
+#[inline(always)]
+pub fn subtract(t: &[Row], out: &mut [Row]) {
+    for (o, t) in out.iter_mut().zip(t) {
+        for (o, v) in o.iter_mut().zip(t) {
+            *o -= v;
+        }
+    }
+}
+
+/// out ← a − b.
+#[inline(always)]
+pub fn difference(a: &[Row], b: &[Row], out: &mut [Row]) {
+    for ((o, a), b) in out.iter_mut().zip(a).zip(b) {
+        for ((o, a), b) in o.iter_mut().zip(a).zip(b) {
+            *o = a - b;
+        }
+    }
+}
+
+/// Where lane l is in mode `mode`, out ← t (`add`: out + t): assembles M_θ V from the product
+/// with each mode's matrix when the lanes' modes differ.
+#[inline(always)]
+pub fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [Row]) {
+    for (o, r) in out.iter_mut().zip(t) {
+        for ((o, v), m) in o.iter_mut().zip(r).zip(modes) {
+            let keep = if add { *o + v } else { *v };
+            *o = if *m == mode { keep } else { *o };
+        }
+    }
+}
+
+/// |e|² per lane.
+#[inline(always)]
+pub fn squared_norm(e: &[Row], out: &mut Row) {
+    *out = [0.0; LANES];
+    for r in e {
+        for (o, v) in out.iter_mut().zip(r) {
+            *o += v * v;
+        }
+    }
+}
+
+/// eᵀ W e per lane (NEES and the per-trial ellipsoid checks).
+#[inline(always)]
+pub fn quadratic(w: &Mat, e: &[Row], out: &mut Row) {
+    *out = [0.0; LANES];
+    for (j, ej) in e.iter().enumerate() {
+        for (i, ei) in e.iter().enumerate() {
+            let a = w[(i, j)];
+            if a != 0.0 {
+                for ((o, x), y) in out.iter_mut().zip(ei).zip(ej) {
+                    *o += x * a * y;
+                }
+            }
+        }
+    }
+}
