@@ -2,6 +2,8 @@
 //! recursion, the modal (block-diagonal) fast path, and how many digits each result keeps.
 
 use super::*;
+use nalgebra::Matrix2;
+
 use crate::numerics::linalg::weighted_sum;
 
 /// What drives the recursion besides x0: white noise (covariance — one, or one per step when
@@ -220,49 +222,68 @@ pub(super) fn two_by_two_block_diagonal(m: &Mat) -> bool {
 pub(super) fn propagate_modal(plant: &Plant, real: &Realization, x0_cov: &Mat, w: &Mat, bwb_full: &Mat) -> ExactError {
     let (nx, ns) = (plant.nx(), real.ns());
     let nb = nx / 2;
-    let blk = |m: &Mat, b: usize| m.view((2 * b, 2 * b), (2, 2)).into_owned();
-    let a: Vec<Mat> = (0..nb).map(|b| blk(plant.a_at(0), b)).collect();
-    let bwb: Vec<Mat> = (0..nb).map(|b| blk(bwb_full, b)).collect();
-    let mut p: Vec<Mat> = (0..nb).map(|b| blk(x0_cov, b)).collect();
+    // The blocks live on the stack (nalgebra's Matrix2): the string has 128 of them per step and
+    // filter, and heap-allocated 2×2 matrices made this recursion most of galerkin_string's run.
+    let blk = |m: &Mat, b: usize| -> Matrix2<f64> { m.fixed_view::<2, 2>(2 * b, 2 * b).into_owned() };
+    let a: Vec<Matrix2<f64>> = (0..nb).map(|b| blk(plant.a_at(0), b)).collect();
+    let bwb: Vec<Matrix2<f64>> = (0..nb).map(|b| blk(bwb_full, b)).collect();
+    let mut p: Vec<Matrix2<f64>> = (0..nb).map(|b| blk(x0_cov, b)).collect();
     let mut x = Mat::zeros(nx, ns);
     let mut sm = Mat::zeros(ns, ns);
-    // Block-diagonal products: A·M and P·M for M with nx rows.
-    let bd_mul = |d: &[Mat], m: &Mat| {
+    // Block-diagonal products D·M for M with nx rows.
+    let bd_mul = |d: &[Matrix2<f64>], m: &Mat| {
         let mut out = Mat::zeros(m.nrows(), m.ncols());
-        for (b, db) in d.iter().enumerate() {
-            out.rows_mut(2 * b, 2).copy_from(&(db * m.rows(2 * b, 2)));
+        for j in 0..m.ncols() {
+            for (b, db) in d.iter().enumerate() {
+                let (u, v) = (m[(2 * b, j)], m[(2 * b + 1, j)]);
+                out[(2 * b, j)] = db[(0, 0)] * u + db[(0, 1)] * v;
+                out[(2 * b + 1, j)] = db[(1, 0)] * u + db[(1, 1)] * v;
+            }
         }
         out
     };
-    let bw = plant.b_at(0) * w;
+    // The plant is constant here (no time-varying matrices): every product of C, D and W that
+    // does not involve the filter is formed once, so a step costs O(nx ns² + ns³) with no factor
+    // of nw (the string's forcing has one component per truth mode).
+    // D as measured (d_at(k) is zero before the first measurement, where these terms vanish).
+    let d_measured = plant.d.at(0);
+    let bwd_plant = plant.b_at(0) * w * d_measured.transpose();
+    let dwd_plant = d_measured * w * d_measured.transpose();
+    // tr(G W Gᵀ) with G = Dz − Df D, expanded so W (nw × nw) meets only the plant's matrices.
+    let dz = plant.dz_at(0);
+    let (zwz, dwz) = ((dz * w * dz.transpose()).trace(), d_measured * w * dz.transpose());
     let mut per_step = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         let g = real.gains(k, 0);
-        let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
+        let c = &*plant.c_at(k);
         let hx = plant.cz_at(k) - &g.df * c;
         let hs = -&g.cf;
-        let gw = plant.dz_at(k) - &g.df * d;
-        let mut mse = 2.0 * (&hx * &x * hs.transpose()).trace()
-            + (&hs * &sm * hs.transpose()).trace()
-            + (&gw * w * gw.transpose()).trace();
+        let on = if plant.measured(k) { 1.0 } else { 0.0 };
+        let gwg = zwz - 2.0 * on * (&g.df * &dwz).trace() + on * (&g.df * &dwd_plant * g.df.transpose()).trace();
+        let mut mse = 2.0 * (&hx * &x * hs.transpose()).trace() + (&hs * &sm * hs.transpose()).trace() + gwg;
+        // Σ_b tr(H_b P_b H_bᵀ), row by row: h P hᵀ for the 1×2 pieces h of each row of H_x.
         for (b, pb) in p.iter().enumerate() {
-            let h = hx.columns(2 * b, 2);
-            mse += (h * pb * h.transpose()).trace();
+            for r in 0..hx.nrows() {
+                let (h0, h1) = (hx[(r, 2 * b)], hx[(r, 2 * b + 1)]);
+                mse += h0 * (pb[(0, 0)] * h0 + pb[(0, 1)] * h1) + h1 * (pb[(1, 0)] * h0 + pb[(1, 1)] * h1);
+            }
         }
         per_step.push(mse);
         if k == plant.horizon {
             break;
         }
-        let gc = &g.bf * c;
-        let pgc = bd_mul(&p, &gc.transpose());
-        let bwd = &bw * d.transpose() * g.bf.transpose();
-        let dwd = &g.bf * d * w * d.transpose() * g.bf.transpose();
+        // With Bf C = (Bf)(C): P Cᵀ (nx × ny) and Xᵀ Cᵀ (ns × ny) first, then the filter's Bf.
+        let pct = bd_mul(&p, &c.transpose());
+        let pgc = &pct * g.bf.transpose();
+        let bwd = &bwd_plant * g.bf.transpose() * on;
+        let dwd = &g.bf * &dwd_plant * g.bf.transpose() * on;
         let x_next = bd_mul(&a, &(&x * g.af.transpose() + &pgc)) + bwd;
-        let xg = x.transpose() * gc.transpose();
-        let s_next =
-            &g.af * &sm * g.af.transpose() + &g.af * &xg + xg.transpose() * g.af.transpose() + &gc * &pgc + dwd;
+        let xg = (x.transpose() * c.transpose()) * g.bf.transpose();
+        let gpg = &g.bf * (c * &pct) * g.bf.transpose();
+        let s_next = &g.af * &sm * g.af.transpose() + &g.af * &xg + xg.transpose() * g.af.transpose() + gpg + dwd;
         for b in 0..nb {
-            p[b] = symmetrize(&(&a[b] * &p[b] * a[b].transpose() + &bwb[b]));
+            let next = a[b] * p[b] * a[b].transpose() + bwb[b];
+            p[b] = (next + next.transpose()) * 0.5;
         }
         x = x_next;
         sm = symmetrize(&s_next);
