@@ -163,11 +163,11 @@ fn main_inner(cli: Cli) -> Result<()> {
                 out: out.map(|p| p.display().to_string()),
             };
             publish(&target, |dir| match shard {
-                Some(s) => {
-                    let meta = pool.install(|| report::shards::run_shard(&exps, s, overrides, dir))?;
-                    if !quiet {
-                        let [a, b] = meta.blocks;
-                        println!("shard {}/{}: blocks {a}..{b} of every scenario", meta.shard, meta.shards);
+                Some((i, n)) => {
+                    let meta =
+                        pool.install(|| report::shards::run_shards(&exps, n, &[i], &overrides, |_| dir.into()))?;
+                    if let (Some(m), false) = (meta, quiet) {
+                        println!("shard {i}/{n}: blocks {}..{} of every scenario", m.blocks[0], m.blocks[1]);
                     }
                     Ok(())
                 }

@@ -174,12 +174,8 @@ pub fn evaluate(
 /// A merge's nodes and per-trial rows, checked against the scenario: every accumulator of the
 /// right size, and one J per trial and filter when they are kept.
 fn check_given(sc: &montecarlo::Scenario, p: Partial) -> Result<Partial> {
-    let shape = |m: &montecarlo::McStats| {
-        let f: Vec<_> = m.filters.iter().map(|f| (f.steps.len(), f.nees.len())).collect();
-        (f, m.paired.len())
-    };
-    let want = shape(&montecarlo::McStats::new(sc));
-    if let Some(n) = p.nodes.iter().find(|n| shape(&n.stats) != want) {
+    let want = montecarlo::McStats::new(sc);
+    if let Some(n) = p.nodes.iter().find(|n| !n.stats.same_shape(&want)) {
         let b = n.blocks();
         return Err(Error::invalid(
             "merge",

@@ -73,21 +73,38 @@ fn run_inner(exp: &Experiment, show_progress: bool, given: Option<(&str, Vec<Par
     })
 }
 
-/// Shard `blocks` of the experiment's Monte Carlo (`--shard I/N`): the designs' fingerprint and,
-/// per scenario, the tree nodes and per-trial J of those blocks alone.
-pub fn shard(exp: &Experiment, blocks: std::ops::Range<u64>) -> Result<(String, Vec<Partial>)> {
-    let filters = design_all(exp)?;
-    let covs = scenario_covariances(exp, &filters)?;
-    let engine = evaluate::Engine::new(exp, &filters);
-    let mut out = Vec::with_capacity(exp.scenarios.len());
-    for (i, cov) in covs.iter().enumerate() {
-        let setup = scenarios::setup(exp, &filters, i, cov)?;
-        let (_, forms) = evaluate::exact_errors(&engine, &setup)?;
-        let sc = engine.scenario(&setup, i, &forms);
-        out.push(montecarlo::run_range(&sc, exp.trials as u64, blocks.clone(), exp.per_trial, &|_| {}));
+/// An experiment designed for running shards (`--shard I/N`): the filters and scenario
+/// covariances, made once for any number of shards.
+pub struct ShardDesigns<'a> {
+    exp: &'a Experiment,
+    filters: Vec<DesignedFilter>,
+    covs: Vec<crate::model::plant::Covariances>,
+    /// The designs' [`fingerprint`].
+    pub fingerprint: String,
+}
+
+impl<'a> ShardDesigns<'a> {
+    pub fn new(exp: &'a Experiment) -> Result<Self> {
+        let filters = design_all(exp)?;
+        let covs = scenario_covariances(exp, &filters)?;
+        let fingerprint = fingerprint(&filters);
+        Ok(ShardDesigns { exp, filters, covs, fingerprint })
     }
-    drop(engine);
-    Ok((fingerprint(&filters), out))
+
+    /// Blocks `blocks` of the experiment's Monte Carlo: per scenario, the tree nodes and per-trial J
+    /// of those blocks alone.
+    pub fn run(&self, blocks: std::ops::Range<u64>) -> Result<Vec<Partial>> {
+        let exp = self.exp;
+        let engine = evaluate::Engine::new(exp, &self.filters);
+        let mut out = Vec::with_capacity(exp.scenarios.len());
+        for (i, cov) in self.covs.iter().enumerate() {
+            let setup = scenarios::setup(exp, &self.filters, i, cov)?;
+            let (_, forms) = evaluate::exact_errors(&engine, &setup)?;
+            let sc = engine.scenario(&setup, i, &forms);
+            out.push(montecarlo::run_range(&sc, exp.trials as u64, blocks.clone(), exp.per_trial, &|_| {}));
+        }
+        Ok(out)
+    }
 }
 
 /// The designs' fingerprint: SHA-256 over every filter's realization, as bits, in file order.

@@ -3,12 +3,13 @@
 //! checks that the shards belong together, rebuilds each scenario's statistics from their tree
 //! nodes ([`crate::sim::tree`]) and runs the rest of the pipeline, so the output is that of one run.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::pipeline::{self, RunOutcome};
-use crate::sim::montecarlo::{self, Partial};
+use crate::sim::montecarlo::{self, McStats, Partial};
+use crate::sim::tree::Tree;
 
 use super::manifest::Overrides;
 use super::partial::{self, Meta};
@@ -27,35 +28,42 @@ pub fn parse_shard(text: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
-/// Runs shard `i` of `n` of every variant and writes its partial result into `dir`.
-pub fn run_shard(exps: &[Experiment], (i, n): (u64, u64), overrides: Overrides, dir: &Path) -> Result<Meta> {
+/// Runs shards `which` of `n` of every variant, each written into `dir(I)` as soon as it is done
+/// (the filters are designed once per variant). The command line runs one; a test or a scale
+/// measurement many. Returns the last shard's `partial.json`.
+pub fn run_shards(
+    exps: &[Experiment],
+    n: u64,
+    which: &[u64],
+    overrides: &Overrides,
+    dir: impl Fn(u64) -> PathBuf,
+) -> Result<Option<Meta>> {
     let exp = &exps[0];
     let total = montecarlo::blocks(exp.trials as u64);
-    let blocks = partial::shard_blocks(i, n, total);
-    let mut fingerprints = Vec::new();
-    let mut runs = Vec::new();
-    for e in exps {
-        let (fp, parts) = pipeline::shard(e, blocks.clone())?;
-        fingerprints.push(fp);
-        runs.push(parts);
+    let designs = exps.iter().map(pipeline::ShardDesigns::new).collect::<Result<Vec<_>>>()?;
+    let mut last = None;
+    for &i in which {
+        let blocks = partial::shard_blocks(i, n, total);
+        let runs = designs.iter().map(|d| d.run(blocks.clone())).collect::<Result<Vec<_>>>()?;
+        let meta = Meta {
+            format: partial::FORMAT,
+            filterbench_version: env!("CARGO_PKG_VERSION").into(),
+            experiment: exp.name.clone(),
+            experiment_file: exp.source.clone(),
+            variants: exps.iter().map(|e| e.variant.clone()).collect(),
+            seed: exp.seed,
+            trials: exp.trials,
+            per_trial: exp.per_trial,
+            overrides: Overrides { threads: None, out: None, ..overrides.clone() },
+            shard: i,
+            shards: n,
+            blocks: [blocks.start, blocks.end],
+            fingerprints: designs.iter().map(|d| d.fingerprint.clone()).collect(),
+        };
+        partial::write(&dir(i), &meta, &runs)?;
+        last = Some(meta);
     }
-    let meta = Meta {
-        format: partial::FORMAT,
-        filterbench_version: env!("CARGO_PKG_VERSION").into(),
-        experiment: exp.name.clone(),
-        experiment_file: exp.source.clone(),
-        variants: exps.iter().map(|e| e.variant.clone()).collect(),
-        seed: exp.seed,
-        trials: exp.trials,
-        per_trial: exp.per_trial,
-        overrides: Overrides { threads: None, out: None, ..overrides },
-        shard: i,
-        shards: n,
-        blocks: [blocks.start, blocks.end],
-        fingerprints,
-    };
-    partial::write(dir, &meta, &runs)?;
-    Ok(meta)
+    Ok(last)
 }
 
 /// The shards of one run, checked to belong together and to be complete, in shard order.
@@ -160,36 +168,47 @@ pub fn check(dirs: &[PathBuf]) -> Result<Shards> {
 /// the bit, as one run of the experiment.
 pub fn merge(s: &Shards) -> Result<Vec<RunOutcome>> {
     let counts: Vec<usize> = s.exps.iter().map(|e| e.scenarios.len()).collect();
-    let mut given: Vec<Vec<Partial>> = counts
-        .iter()
-        .map(|&c| (0..c).map(|_| Partial { nodes: Vec::new(), per_trial: Vec::new() }).collect())
-        .collect();
+    // Each shard's nodes go onto its scenario's tree as they are read: memory holds O(log blocks)
+    // nodes per scenario, not every shard's.
+    let mut trees: Vec<Vec<Tree>> = counts.iter().map(|&c| (0..c).map(|_| Tree::default()).collect()).collect();
+    let mut per_trial: Vec<Vec<Vec<Vec<f64>>>> = counts.iter().map(|&c| vec![Vec::new(); c]).collect();
+    let mut first: Vec<Vec<Option<McStats>>> = counts.iter().map(|&c| vec![None; c]).collect();
     let total = montecarlo::blocks(s.meta.trials as u64);
     for (i, dir) in s.dirs.iter().enumerate() {
         let blocks = partial::shard_blocks(i as u64, s.meta.shards, total);
+        let bad = |why: String| Error::invalid(format!("shard {}", dir.display()), why);
         let nodes = partial::read_nodes(dir, &counts)?;
         for (r, run) in nodes.into_iter().enumerate() {
             for (sc, nodes) in run.into_iter().enumerate() {
-                // The nodes must tile the shard's blocks, in order.
+                // The nodes must tile the shard's blocks, in order, with the accumulators of the others.
                 let mut at = blocks.start;
-                for node in &nodes {
+                for node in nodes {
                     let b = node.blocks();
-                    at = if b.start == at { b.end } else { u64::MAX };
+                    if b.start != at {
+                        break;
+                    }
+                    at = b.end;
+                    let like = first[r][sc].get_or_insert_with(|| node.stats.clone());
+                    if !like.same_shape(&node.stats) {
+                        return Err(bad(format!(
+                            "its accumulators of scenario {sc} differ in size from the other shards'"
+                        )));
+                    }
+                    trees[r][sc].push(node);
                 }
                 if at != blocks.end {
-                    return Err(Error::invalid(
-                        format!("shard {}", dir.display()),
-                        format!("its nodes of scenario {sc} do not cover blocks {}..{}", blocks.start, blocks.end),
-                    ));
+                    return Err(bad(format!(
+                        "its nodes of scenario {sc} do not cover blocks {}..{}",
+                        blocks.start, blocks.end
+                    )));
                 }
-                given[r][sc].nodes.extend(nodes);
             }
         }
         if s.meta.per_trial {
             let rows = partial::read_trials(dir, blocks.start * montecarlo::BLOCK, &counts)?;
             for (r, run) in rows.into_iter().enumerate() {
                 for (sc, filters) in run.into_iter().enumerate() {
-                    let per = &mut given[r][sc].per_trial;
+                    let per = &mut per_trial[r][sc];
                     per.resize(per.len().max(filters.len()), Vec::new());
                     for (f, v) in filters.into_iter().enumerate() {
                         per[f].extend(v);
@@ -198,6 +217,9 @@ pub fn merge(s: &Shards) -> Result<Vec<RunOutcome>> {
             }
         }
     }
+    let given = trees.into_iter().zip(per_trial).map(|(t, p)| {
+        t.into_iter().zip(p).map(|(t, per_trial)| Partial { nodes: t.into_nodes(), per_trial }).collect::<Vec<_>>()
+    });
     let mut out = Vec::with_capacity(s.exps.len());
     for ((e, fp), g) in s.exps.iter().zip(&s.meta.fingerprints).zip(given) {
         if e.per_trial {

@@ -196,3 +196,26 @@ fn slurm_result_equals_one_run() {
     let dir = |k: &str| PathBuf::from(std::env::var(k).unwrap_or_else(|_| panic!("{k} is not set")));
     same_results(&dir("FB_ONE"), &dir("FB_MERGED"));
 }
+
+/// The scale measurement of issue 19 (docs/partial-results.md): `FB_SCALE_DIR=D FB_SCALE_SHARDS=N
+/// FB_SCALE_TRIALS=T cargo test --release -- --ignored shards::generate_aniso_dropout_shards` writes
+/// shards 0..N-1 of aniso_dropout with T trials into D/shard-I, through the code `--shard I/N` runs
+/// (the filters designed once, not N times), for `filterbench merge` to be timed on them.
+#[test]
+#[ignore = "a measurement: run by hand with FB_SCALE_DIR, FB_SCALE_SHARDS and FB_SCALE_TRIALS"]
+fn generate_aniso_dropout_shards() {
+    let var = |k: &str| std::env::var(k).unwrap_or_else(|_| panic!("{k} is not set"));
+    let (dir, n, trials) = (PathBuf::from(var("FB_SCALE_DIR")), var("FB_SCALE_SHARDS"), var("FB_SCALE_TRIALS"));
+    let (n, trials): (u64, usize) = (n.parse().unwrap(), trials.parse().unwrap());
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/aniso_dropout.toml");
+    let mut exps = filterbench::config::load_variants(&path).unwrap();
+    filterbench::config::apply_overrides(&mut exps, Some(trials), None).unwrap();
+    let overrides = filterbench::report::manifest::Overrides { trials: Some(trials), ..Default::default() };
+    let which: Vec<u64> = (0..n).collect();
+    filterbench::report::shards::run_shards(&exps, n, &which, &overrides, |i| {
+        let d = dir.join(format!("shard-{i}"));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    })
+    .unwrap();
+}

@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
-# Proves deploy/slurm/ on a real single-node Slurm (tools/slurm/local_cluster.sh), with
-# tools/slurm/standin-filterbench.sh in place of the filterbench binary (issue 19):
+# Proves deploy/slurm/ on a real single-node Slurm (tools/slurm/local_cluster.sh) with the real
+# filterbench binary (issue 19):
 #   1. start the cluster;
-#   2. deploy/slurm/submit.sh kalman_baseline $SHARDS OUT --seed 7: every array task must see its own
-#      index, the shard count and the option, the merge must start only after all of them and see
-#      every shard;
-#   3. the same with one shard failing on purpose: the merge must be cancelled, never run;
+#   2. deploy/slurm/submit.sh kalman_baseline $SHARDS OUT --trials 500 --per-trial: every array task
+#      and the merge must complete, and OUT/merged must hold the tables of a one-machine run of the
+#      same experiment bit for bit (timing columns aside), compared by the test crate's own check
+#      (tests/it/shards.rs, `slurm_result_equals_one_run`);
+#   3. the same with an option every shard refuses (--trials 1): the shards fail and the merge must
+#      be cancelled, never run;
 #   4. stop the cluster, also when a step fails (trap).
+# The binary: FILTERBENCH, else target/release/filterbench of this repository (CARGO_TARGET_DIR
+# honoured), built first with `cargo build --release` if missing.
 # Prints the jobs' output and how long each step took; exits 0 only if every check passed.
 set -euo pipefail
 
@@ -20,6 +24,15 @@ fail() { echo "selftest: FAIL: $*" >&2; exit 1; }
 now() { date +%s.%N; }
 since() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }'; }
 
+target=${CARGO_TARGET_DIR:-$repo/target}
+case "$target" in /*) ;; *) target=$repo/$target ;; esac
+if [ -z "${FILTERBENCH:-}" ]; then
+  FILTERBENCH=$target/release/filterbench
+  [ -x "$FILTERBENCH" ] || (cd "$repo" && cargo build --release --quiet) || fail "cargo build --release failed"
+fi
+[ -x "$FILTERBENCH" ] || fail "no filterbench binary at $FILTERBENCH"
+export FILTERBENCH
+TRIALS=${SELFTEST_TRIALS:-500}
 work=$(mktemp -d /tmp/filterbench-selftest.XXXXXX)
 finish() {
   local rc=$?
@@ -72,11 +85,14 @@ show_logs() {
   done
 }
 
-# --- 1. a whole run ---
+# --- 1. a whole run, compared with one machine ---
+t=$(now)
+(cd "$repo" && "$FILTERBENCH" experiment kalman_baseline --trials "$TRIALS" --per-trial --quiet --out "$work/one") ||
+  fail "the one-machine run failed"
+echo "selftest: one-machine run took $(since "$t")s"
 out=$work/ok
 t=$(now)
-ids_text=$(FILTERBENCH=$here/standin-filterbench.sh "$repo/deploy/slurm/submit.sh" kalman_baseline "$SHARDS" "$out" \
-  --seed 7) ||
+ids_text=$(cd "$repo" && deploy/slurm/submit.sh kalman_baseline "$SHARDS" "$out" --trials "$TRIALS" --per-trial) ||
   fail "submit.sh failed"
 echo "$ids_text"
 array=$(ids array "$ids_text") merge=$(ids merge "$ids_text")
@@ -87,21 +103,22 @@ echo "$states" | sed 's/^/  /'
 show_logs "$out"
 [ "$(grep -c " COMPLETED " <<<"$states")" -eq $((SHARDS + 1)) ] ||
   fail "expected $SHARDS array tasks and the merge COMPLETED"
-expected=$(for ((i = 0; i < SHARDS; i++)); do echo "kalman_baseline $i $SHARDS --seed 7"; done)
-[ -f "$out/merged/merged.txt" ] || fail "no $out/merged/merged.txt"
-[ "$(cat "$out/merged/merged.txt")" = "$expected" ] ||
-  fail "merged output is not shards 0..$((SHARDS - 1)) of $SHARDS: $(tr '\n' '|' <"$out/merged/merged.txt")"
-# The merge ran after every shard had finished (the stand-in's merge also refuses a missing shard).
 for ((i = 0; i < SHARDS; i++)); do
-  [ ! "$out/shard-$i/shard.txt" -nt "$out/merged/merged.txt" ] || fail "shard $i was written after the merge"
+  [ -f "$out/shard-$i/partial.json" ] || fail "shard $i wrote no partial result"
+  grep -q "\"shard\": $i," "$out/shard-$i/partial.json" || fail "shard-$i is not shard $i"
+  grep -q "\"shards\": $SHARDS," "$out/shard-$i/partial.json" || fail "shard-$i does not know N = $SHARDS"
 done
-echo "selftest: ok: $SHARDS shards saw indices 0..$((SHARDS - 1)) of $SHARDS and --seed 7; the merge got all of them"
+[ -f "$out/merged/manifest.json" ] || fail "no merged result in $out/merged"
+t=$(now)
+(cd "$repo" && FB_ONE=$work/one FB_MERGED=$out/merged cargo test --release --quiet --test it -- --ignored --exact \
+  shards::slurm_result_equals_one_run) || fail "the merged tables differ from the one-machine run"
+echo "selftest: comparison took $(since "$t")s"
+echo "selftest: ok: $SHARDS shards on Slurm, merged = one-machine run bit for bit (every table, timings aside)"
 
-# --- 2. a failed shard must cancel the merge ---
+# --- 2. failed shards must cancel the merge ---
 out=$work/failing
 t=$(now)
-ids_text=$(STANDIN_FAIL_SHARD=1 FILTERBENCH=$here/standin-filterbench.sh \
-  "$repo/deploy/slurm/submit.sh" kalman_baseline "$SHARDS" "$out") || fail "submit.sh failed"
+ids_text=$(cd "$repo" && deploy/slurm/submit.sh kalman_baseline "$SHARDS" "$out" --trials 1) || fail "submit.sh failed"
 echo "$ids_text"
 array=$(ids array "$ids_text") merge=$(ids merge "$ids_text")
 states=$(wait_jobs "$array,$merge")
@@ -110,6 +127,6 @@ echo "$states" | sed 's/^/  /'
 show_logs "$out"
 grep -qE "^${array}_1 FAILED " <<<"$states" || fail "shard 1 did not end FAILED"
 grep -qE "^$merge CANCELLED " <<<"$states" || fail "the merge job did not end CANCELLED"
-[ ! -e "$out/merged" ] || fail "the merge ran although shard 1 failed"
-[ ! -e "$out/logs/merge.out" ] || fail "the merge job wrote a log although shard 1 failed"
-echo "selftest: ok: shard 1 failed, the merge was cancelled without running"
+[ ! -e "$out/merged" ] || fail "the merge ran although the shards failed"
+[ ! -e "$out/logs/merge.out" ] || fail "the merge job wrote a log although the shards failed"
+echo "selftest: ok: the shards failed (--trials 1), the merge was cancelled without running"
