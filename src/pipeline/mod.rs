@@ -73,12 +73,12 @@ fn run_inner(exp: &Experiment, show_progress: bool, given: Option<(&str, Vec<Par
     })
 }
 
-/// An experiment designed for running shards (`--shard I/N`): the filters and scenario
-/// covariances, made once for any number of shards.
+/// An experiment designed for running shards (`--shard I/N`): the filters, and per scenario its
+/// setup and the coordinates each filter is simulated in, made once for any number of shards.
 pub struct ShardDesigns<'a> {
     exp: &'a Experiment,
     filters: Vec<DesignedFilter>,
-    covs: Vec<crate::model::plant::Covariances>,
+    scenarios: Vec<(scenarios::Setup, Vec<Option<crate::analysis::exact::ErrorForm>>)>,
     /// The designs' [`fingerprint`].
     pub fingerprint: String,
 }
@@ -87,23 +87,33 @@ impl<'a> ShardDesigns<'a> {
     pub fn new(exp: &'a Experiment) -> Result<Self> {
         let filters = design_all(exp)?;
         let covs = scenario_covariances(exp, &filters)?;
+        let engine = evaluate::Engine::new(exp, &filters);
+        let scenarios = covs
+            .iter()
+            .enumerate()
+            .map(|(i, cov)| {
+                let setup = scenarios::setup(exp, &filters, i, cov)?;
+                let (_, forms) = evaluate::exact_errors(&engine, &setup)?;
+                Ok((setup, forms))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        drop(engine);
         let fingerprint = fingerprint(&filters);
-        Ok(ShardDesigns { exp, filters, covs, fingerprint })
+        Ok(ShardDesigns { exp, filters, scenarios, fingerprint })
     }
 
     /// Blocks `blocks` of the experiment's Monte Carlo: per scenario, the tree nodes and per-trial J
     /// of those blocks alone.
-    pub fn run(&self, blocks: std::ops::Range<u64>) -> Result<Vec<Partial>> {
+    pub fn run(&self, blocks: std::ops::Range<u64>) -> Vec<Partial> {
         let exp = self.exp;
         let engine = evaluate::Engine::new(exp, &self.filters);
-        let mut out = Vec::with_capacity(exp.scenarios.len());
-        for (i, cov) in self.covs.iter().enumerate() {
-            let setup = scenarios::setup(exp, &self.filters, i, cov)?;
-            let (_, forms) = evaluate::exact_errors(&engine, &setup)?;
-            let sc = engine.scenario(&setup, i, &forms);
-            out.push(montecarlo::run_range(&sc, exp.trials as u64, blocks.clone(), exp.per_trial, &|_| {}));
+        let trials = exp.trials as u64;
+        let mut out = Vec::with_capacity(self.scenarios.len());
+        for (i, (setup, forms)) in self.scenarios.iter().enumerate() {
+            let sc = engine.scenario(setup, i, forms);
+            out.push(montecarlo::run_range(&sc, trials, blocks.clone(), exp.per_trial, &|_| {}));
         }
-        Ok(out)
+        out
     }
 }
 

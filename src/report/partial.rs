@@ -173,32 +173,46 @@ pub fn read_meta(dir: &Path) -> Result<Meta> {
         .map_err(|e| Error::invalid(format!("shard {}", dir.display()), format!("{META} is not a partial result: {e}")))
 }
 
-fn read_frame(dir: &Path, file: &str) -> Result<DataFrame> {
-    let path = dir.join(file);
-    let f = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
-    ParquetReader::new(f).finish().map_err(|e| Error::invalid(path.display().to_string(), e.to_string()))
+/// A table of a partial result read back, its columns by type, each error naming the file.
+struct Table {
+    df: DataFrame,
+    shown: String,
+}
+
+impl Table {
+    fn read(dir: &Path, file: &str) -> Result<Self> {
+        let path = dir.join(file);
+        let f = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
+        let shown = path.display().to_string();
+        let df = ParquetReader::new(f).finish().map_err(|e| Error::invalid(&shown, e.to_string()))?;
+        Ok(Table { df, shown })
+    }
+    fn bad(&self, why: impl std::fmt::Display) -> Error {
+        Error::invalid(&self.shown, why.to_string())
+    }
+    fn column(&self, name: &str) -> Result<&Column> {
+        self.df.column(name).map_err(|e| self.bad(e))
+    }
+    fn u32s(&self, name: &str) -> Result<Vec<u32>> {
+        Ok(self.column(name)?.u32().map_err(|e| self.bad(e))?.into_no_null_iter().collect())
+    }
+    fn u64s(&self, name: &str) -> Result<Vec<u64>> {
+        Ok(self.column(name)?.u64().map_err(|e| self.bad(e))?.into_no_null_iter().collect())
+    }
+    fn f64s(&self, name: &str) -> Result<Vec<f64>> {
+        Ok(self.column(name)?.f64().map_err(|e| self.bad(e))?.into_no_null_iter().collect())
+    }
 }
 
 /// The nodes of a shard, per run and scenario (`[r][s]`), for `runs` runs of `scenarios[r]`
 /// scenarios each, in block order as written.
 pub fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Node>>>> {
-    let shown = dir.join(NODES).display().to_string();
-    let bad = |why: String| Error::invalid(&shown, why);
-    let df = read_frame(dir, NODES)?;
-    let get = |name: &str| df.column(name).map_err(|e| bad(e.to_string()));
-    let u32s = |name: &str| -> Result<Vec<u32>> {
-        Ok(get(name)?.u32().map_err(|e| bad(e.to_string()))?.into_no_null_iter().collect())
-    };
-    let u64s = |name: &str| -> Result<Vec<u64>> {
-        Ok(get(name)?.u64().map_err(|e| bad(e.to_string()))?.into_no_null_iter().collect())
-    };
-    let f64s = |name: &str| -> Result<Vec<f64>> {
-        Ok(get(name)?.f64().map_err(|e| bad(e.to_string()))?.into_no_null_iter().collect())
-    };
-    let (run, scenario, level, index) = (u32s("run")?, u32s("scenario")?, u32s("level")?, u64s("index")?);
-    let (item, step, n, mean, m2) = (u32s("item")?, u32s("step")?, u64s("n")?, f64s("mean")?, f64s("m2")?);
+    let t = Table::read(dir, NODES)?;
+    let bad = |why: String| t.bad(why);
+    let (run, scenario, level, index) = (t.u32s("run")?, t.u32s("scenario")?, t.u32s("level")?, t.u64s("index")?);
+    let (item, step, n, mean, m2) = (t.u32s("item")?, t.u32s("step")?, t.u64s("n")?, t.f64s("mean")?, t.f64s("m2")?);
     let stat: Vec<String> =
-        get("stat")?.str().map_err(|e| bad(e.to_string()))?.iter().map(|v| v.unwrap_or_default().to_string()).collect();
+        t.column("stat")?.str().map_err(|e| t.bad(e))?.iter().map(|v| v.unwrap_or_default().to_string()).collect();
     let mut out: Vec<Vec<Vec<Node>>> = scenarios.iter().map(|&s| vec![Vec::new(); s]).collect();
     let mut current: Option<(usize, usize, Node)> = None;
     let empty = McStats { filters: Vec::new(), paired: Vec::new() };
@@ -253,18 +267,12 @@ pub fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Node>>>
 /// The per-trial J of a shard, `[r][s][f]`, with the first trial of each list; rows must be in
 /// (run, scenario, filter, trial) order with consecutive trials.
 pub fn read_trials(dir: &Path, first: u64, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Vec<f64>>>>> {
-    let shown = dir.join(TRIALS).display().to_string();
-    let bad = |why: String| Error::invalid(&shown, why);
-    let df = read_frame(dir, TRIALS)?;
-    let get = |name: &str| df.column(name).map_err(|e| bad(e.to_string()));
-    let u32s = |name: &str| -> Result<Vec<u32>> {
-        Ok(get(name)?.u32().map_err(|e| bad(e.to_string()))?.into_no_null_iter().collect())
-    };
-    let (run, scenario, filter) = (u32s("run")?, u32s("scenario")?, u32s("filter")?);
-    let trial: Vec<u64> = get("trial")?.u64().map_err(|e| bad(e.to_string()))?.into_no_null_iter().collect();
-    let j = get("j")?.f64().map_err(|e| bad(e.to_string()))?;
+    let t = Table::read(dir, TRIALS)?;
+    let bad = |why: String| t.bad(why);
+    let (run, scenario, filter, trial, j) =
+        (t.u32s("run")?, t.u32s("scenario")?, t.u32s("filter")?, t.u64s("trial")?, t.f64s("j")?);
     let mut out: Vec<Vec<Vec<Vec<f64>>>> = scenarios.iter().map(|&s| vec![Vec::new(); s]).collect();
-    for (i, v) in j.into_no_null_iter().enumerate() {
+    for (i, &v) in j.iter().enumerate() {
         let (r, s, f) = (run[i] as usize, scenario[i] as usize, filter[i] as usize);
         let list =
             out.get_mut(r).and_then(|x| x.get_mut(s)).ok_or_else(|| bad(format!("row {i}: not in the experiment")))?;
