@@ -6,8 +6,8 @@
 //! blocks run in parallel and their statistics are merged with Chan's formula in the fixed order of
 //! a dyadic tree over block indices ([`crate::sim::tree`]), which any cut into shards reproduces.
 //! Together with per-trial random streams ([`crate::sim::noise::trial_rng`]) this makes every
-//! figure bit-identical for any number of threads. Memory is O(filters × steps), independent of
-//! the number of trials.
+//! figure bit-identical for any number of threads and any cut into shards. Memory is
+//! O(filters × steps × log blocks) (the tree's stack), not growing with the trials beyond that log.
 
 use rayon::prelude::*;
 
