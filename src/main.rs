@@ -184,7 +184,7 @@ fn main_inner(cli: Cli) -> Result<()> {
         }
         Command::Merge { shards, out, threads, quiet } => {
             let pool = pool(threads)?;
-            let checked = report::shards::check(&shards)?;
+            let checked = report::shards::check(&shards, &out)?;
             let overrides =
                 Overrides { threads, out: Some(out.display().to_string()), ..checked.meta.overrides.clone() };
             publish(&out, |dir| {

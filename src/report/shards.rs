@@ -75,9 +75,17 @@ pub struct Shards {
 
 /// Reads every shard's `partial.json` and refuses, naming the shard, one of another experiment,
 /// seed, trial count, version, format or designs, a repeated shard and missing ones.
-pub fn check(dirs: &[PathBuf]) -> Result<Shards> {
+pub fn check(dirs: &[PathBuf], out: &std::path::Path) -> Result<Shards> {
     if dirs.is_empty() {
         return Err(Error::invalid("merge", "no shard folders given"));
+    }
+    // A shard is filterbench's own output, which --out may replace: never one being merged.
+    let real = |p: &std::path::Path| std::fs::canonicalize(p).ok();
+    if let Some(d) = dirs.iter().find(|d| real(d).is_some() && real(d) == real(out)) {
+        return Err(Error::invalid(
+            format!("--out {}", out.display()),
+            format!("is the shard {} being merged; choose another folder", d.display()),
+        ));
     }
     let metas = dirs.iter().map(|d| partial::read_meta(d)).collect::<Result<Vec<_>>>()?;
     let name = |i: usize| format!("shard {}", dirs[i].display());

@@ -184,6 +184,10 @@ fn merge_refuses_shards_that_do_not_belong() {
     // All shards agree, but not with the designs made again here.
     let (f0, f2) = (edit(&a0, "f0", &fp, &forged), edit(&a2, "f2", &fp, &forged));
     refused(&[&f0, &f1, &f2], &out, &["fingerprint", &forged]);
+    let o = run(&["merge", "--quiet", "--out", s(&a1), s(&a0), s(&a1), s(&a2)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!((o.status.code(), err.trim_end().lines().count()), (Some(2), 1), "{err}");
+    assert!(err.contains("being merged") && a1.join("partial.json").is_file(), "the shard kept: {err}");
     // A shard index that is not one.
     for spec in ["3/3", "1/0", "x/2", "2"] {
         let o = run(&["experiment", "kalman_baseline", "--quiet", "--shard", spec, "--out", s(&t.join("bad"))]);
