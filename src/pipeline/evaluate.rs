@@ -171,8 +171,8 @@ pub fn evaluate(
     })
 }
 
-/// A merge's nodes and per-trial rows, checked against the scenario: every accumulator of the
-/// right size, and one J per trial and filter when they are kept.
+/// A merge's nodes checked against the scenario: every accumulator of the right size (the
+/// per-trial rows are counted where the shards are read, `report::shards`).
 fn check_given(sc: &montecarlo::Scenario, p: Partial) -> Result<Partial> {
     let want = montecarlo::McStats::new(sc);
     if let Some(n) = p.nodes.iter().find(|n| !n.stats.same_shape(&want)) {
