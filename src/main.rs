@@ -1,9 +1,10 @@
-//! Command line: `list`, `experiment NAME|FILE`, `bench NAME|FILE`.
+//! Command line: `list`, `experiment NAME|FILE [--shard I/N]`, `merge SHARD_DIR…`, `bench NAME|FILE`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use filterbench::pipeline::RunOutcome;
 use filterbench::report::{self, manifest::Overrides, output};
 use filterbench::{Result, config, experiment_path, list_experiments, pipeline};
 
@@ -34,6 +35,27 @@ enum Command {
         /// Do not print the progress bar or the table.
         #[arg(long)]
         quiet: bool,
+        /// Run only shard I of N (0 ≤ I < N) and write a partial result for `merge`.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Keep every trial's summed error J: trials.parquet, and the summary's median and p95.
+        #[arg(long)]
+        per_trial: bool,
+    },
+    /// Merge the partial results of every shard of a run into the output of one run.
+    Merge {
+        /// The shards' folders (any order).
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// Output folder; replaced only when the merge completes.
+        #[arg(long)]
+        out: PathBuf,
+        /// Worker threads (default: all cores). Results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Do not print the table.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Measure throughput per scenario (trial-steps/s) and one thread's split: drawing, simulation, statistics.
     Bench {
@@ -60,17 +82,35 @@ struct RunOpts {
 /// Every variant of the experiment, with the command-line overrides applied.
 fn load(name: &str, opts: &RunOpts) -> Result<Vec<config::Experiment>> {
     let mut exps = config::load_variants(&experiment_path(name)?)?;
-    for exp in &mut exps {
-        if let Some(t) = opts.trials {
-            config::check_trials("--trials", t)?;
-            exp.trials = t;
-            exp.sample_trajectories = config::sample_count(exp.sample_trajectories, t);
-        }
-        if let Some(s) = opts.seed {
-            exp.seed = s;
+    config::apply_overrides(&mut exps, opts.trials, opts.seed)?;
+    Ok(exps)
+}
+
+/// Claims the output place before any work (nothing of the user's is replaced), runs `work` into
+/// its temporary folder and renames it onto `target` only when `work` succeeded.
+fn publish(target: &Path, work: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    output::install_signal_cleanup()?;
+    let holder: Vec<String> = std::env::args().map(|a| a.escape_debug().to_string()).collect();
+    let staging = output::OutputPlace::claim(target, &holder.join(" "))?;
+    work(staging.path())?;
+    staging.commit()?;
+    Ok(())
+}
+
+/// The tables, manifest and recording of finished runs, then (unless quiet) the console table.
+fn report_runs(
+    runs: &[(&config::Experiment, &RunOutcome)],
+    dir: &Path,
+    overrides: &Overrides,
+    quiet: bool,
+) -> Result<()> {
+    report::write_all(runs, dir, overrides)?;
+    if !quiet {
+        for (exp, outcome) in runs {
+            print!("{}", report::console::table(exp, outcome));
         }
     }
-    Ok(exps)
+    Ok(())
 }
 
 /// The most worker threads `--threads` may ask for.
@@ -103,30 +143,57 @@ fn main_inner(cli: Cli) -> Result<()> {
                 println!("{name:w$}  {desc}");
             }
         }
-        Command::Experiment { name, opts, out, quiet } => {
-            let exps = load(&name, &opts)?;
-            let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exps[0].name));
+        Command::Experiment { name, opts, out, quiet, shard, per_trial } => {
+            let mut exps = load(&name, &opts)?;
+            let shard = shard.as_deref().map(report::shards::parse_shard).transpose()?;
+            for e in &mut exps {
+                e.per_trial = per_trial;
+            }
+            let default = match shard {
+                Some((i, n)) => format!("{}-shard-{i}-of-{n}", exps[0].name),
+                None => exps[0].name.clone(),
+            };
+            let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(default));
             let pool = pool(opts.threads)?;
             filterbench::pipeline::budget::check(&exps)?;
-            output::install_signal_cleanup()?;
-            let holder: Vec<String> = std::env::args().map(|a| a.escape_debug().to_string()).collect();
-            let staging = output::OutputPlace::claim(&target, &holder.join(" "))?;
-            let outcomes =
-                exps.iter().map(|e| pool.install(|| pipeline::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
-            let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
             let overrides = Overrides {
                 trials: opts.trials,
                 seed: opts.seed,
                 threads: opts.threads,
                 out: out.map(|p| p.display().to_string()),
             };
-            report::write_all(&runs, staging.path(), &overrides)?;
-            staging.commit()?;
-            if !quiet {
-                for (exp, outcome) in &runs {
-                    print!("{}", report::console::table(exp, outcome));
+            publish(&target, |dir| match shard {
+                Some((i, n)) => {
+                    let meta =
+                        pool.install(|| report::shards::run_shards(&exps, n, &[i], &overrides, |_| dir.into()))?;
+                    if let (Some(m), false) = (meta, quiet) {
+                        println!("shard {i}/{n}: blocks {}..{} of every scenario", m.blocks[0], m.blocks[1]);
+                    }
+                    Ok(())
                 }
+                None => {
+                    let outcomes =
+                        exps.iter().map(|e| pool.install(|| pipeline::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
+                    let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
+                    report_runs(&runs, dir, &overrides, quiet)
+                }
+            })?;
+            if !quiet {
                 println!("\nresults: {}", target.display());
+            }
+        }
+        Command::Merge { shards, out, threads, quiet } => {
+            let pool = pool(threads)?;
+            let checked = report::shards::check(&shards, &out)?;
+            let overrides =
+                Overrides { threads, out: Some(out.display().to_string()), ..checked.meta.overrides.clone() };
+            publish(&out, |dir| {
+                let outcomes = pool.install(|| report::shards::merge(&checked))?;
+                let runs: Vec<_> = checked.exps.iter().zip(&outcomes).collect();
+                report_runs(&runs, dir, &overrides, quiet)
+            })?;
+            if !quiet {
+                println!("\nresults: {}", out.display());
             }
         }
         Command::Bench { name, opts } => {

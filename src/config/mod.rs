@@ -110,6 +110,9 @@ pub struct Experiment {
     pub trials: usize,
     pub pattern: Pattern,
     pub sample_trajectories: usize,
+    /// Keep every trial's summed error J (`--per-trial`): `trials.parquet` and the summary's
+    /// median and 95th percentile.
+    pub per_trial: bool,
     /// The total anisotropy a at which every filter's a-anisotropic norm is reported, if any.
     pub anisotropy: Option<f64>,
     pub plant: Plant,
@@ -211,6 +214,22 @@ pub fn sample_count(sample_trajectories: usize, trials: usize) -> usize {
     sample_trajectories.min(trials)
 }
 
+/// The command line's `--trials` and `--seed`, applied to every variant (a lower trial count also
+/// lowers `sample_trajectories`, [`sample_count`]).
+pub fn apply_overrides(exps: &mut [Experiment], trials: Option<usize>, seed: Option<u64>) -> Result<()> {
+    for exp in exps {
+        if let Some(t) = trials {
+            check_trials("--trials", t)?;
+            exp.trials = t;
+            exp.sample_trajectories = sample_count(exp.sample_trajectories, t);
+        }
+        if let Some(s) = seed {
+            exp.seed = s;
+        }
+    }
+    Ok(())
+}
+
 /// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
 pub fn load(path: &Path) -> Result<Experiment> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -222,8 +241,15 @@ pub fn load(path: &Path) -> Result<Experiment> {
 /// entry's keys merged in (tables key by key, anything else replaced), named by its `name`. A file
 /// without variants gives itself. The base file must be valid on its own.
 pub fn load_variants(path: &Path) -> Result<Vec<Experiment>> {
-    let base = load(path)?;
-    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
+    variants_of(&name, &path.display().to_string(), &text)
+}
+
+/// [`load_variants`] of experiment text: `name` is the experiment's name, `file` only for messages.
+pub fn variants_of(name: &str, file: &str, text: &str) -> Result<Vec<Experiment>> {
+    let base = parse(name, file, text)?;
+    let file = file.to_string();
     let mut doc: toml::Table =
         toml::from_str(&base.source).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
     let Some(variants) = doc.remove("variants") else { return Ok(vec![base]) };

@@ -137,6 +137,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
         trials: f.trials,
         pattern: f.pattern,
         sample_trajectories: sample_count(f.sample_trajectories, f.trials),
+        per_trial: false,
         anisotropy: f.anisotropy,
         plant,
         nominal,

@@ -70,6 +70,26 @@ impl Realization {
         Realization { s0, gains: by_mode, tracks: None }
     }
     /// Whether the gains depend on the observed mode.
+    /// Feeds every number of the realization (s0, every gain matrix of every step and mode, and
+    /// the tracking map), with its shape, as bits into `h`: equal digests mean bit-equal filters.
+    pub fn digest(&self, h: &mut impl sha2::Digest) {
+        let mut mat = |m: &Mat| {
+            h.update((m.nrows() as u64).to_le_bytes());
+            h.update((m.ncols() as u64).to_le_bytes());
+            for v in m.iter() {
+                h.update(v.to_bits().to_le_bytes());
+            }
+        };
+        mat(&Mat::from_column_slice(self.s0.len(), 1, self.s0.as_slice()));
+        for g in self.gains.iter().flatten() {
+            for m in [&g.af, &g.bf, &g.cf, &g.df, &g.gf] {
+                mat(m);
+            }
+        }
+        if let Some(m) = &self.tracks {
+            mat(m);
+        }
+    }
     pub fn is_mode_indexed(&self) -> bool {
         self.gains.iter().any(|g| g.len() > 1)
     }

@@ -7,12 +7,12 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::analysis::exact::{self, ErrorForm, ExactError};
 use crate::config::Experiment;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::filter::realization::Realization;
 use crate::model::plant::{Covariances, Plant};
 use crate::model::shape::Shape;
 use crate::numerics::linalg::Mat;
-use crate::sim::montecarlo::{self, PlantOps, RatioCheck};
+use crate::sim::montecarlo::{self, Partial, PlantOps, RatioCheck};
 use crate::sim::noise::JointInput;
 
 use super::design::DesignedFilter;
@@ -94,14 +94,26 @@ pub fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, 
 
 /// Evaluates scenario `index` from its `setup`: exact first (a filter whose error double
 /// precision cannot resolve is refused before its Monte Carlo runs), then the Monte Carlo and
-/// sample trajectories, the exact NEES (seed 001 §3) and the input's power and anisotropy.
-pub fn evaluate(engine: &Engine, setup: Setup, index: usize, bar: &ProgressBar) -> Result<ScenarioOutcome> {
+/// sample trajectories, the exact NEES (seed 001 §3) and the input's power and anisotropy. The
+/// Monte Carlo is run here over every block, or `given` (a merge's shards, every block's nodes).
+pub fn evaluate(
+    engine: &Engine,
+    setup: Setup,
+    index: usize,
+    bar: &ProgressBar,
+    given: Option<Partial>,
+) -> Result<ScenarioOutcome> {
     let exp = engine.exp;
     let s = &exp.scenarios[index];
     let (exact, forms) = exact_errors(engine, &setup)?;
     let sc = engine.scenario(&setup, index, &forms);
     let t = Instant::now();
-    let mc = montecarlo::run(&sc, exp.trials as u64, &|n| bar.inc(n));
+    let trials = exp.trials as u64;
+    let part = match given {
+        Some(p) => check_given(&sc, p)?,
+        None => montecarlo::run_range(&sc, trials, 0..montecarlo::blocks(trials), exp.per_trial, &|n| bar.inc(n)),
+    };
+    let mc = montecarlo::reduce(&sc, part.nodes);
     let mc_seconds = t.elapsed().as_secs_f64();
     let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
     // NEES from the same exact recursions, each projected output checked like the error itself.
@@ -154,8 +166,26 @@ pub fn evaluate(engine: &Engine, setup: Setup, index: usize, bar: &ProgressBar) 
         mc,
         mc_seconds,
         trajectories,
+        per_trial: part.per_trial,
         filters,
     })
+}
+
+/// A merge's nodes checked against the scenario: every accumulator of the right size (the
+/// per-trial rows are counted where the shards are read, `report::shards`).
+fn check_given(sc: &montecarlo::Scenario, p: Partial) -> Result<Partial> {
+    let want = montecarlo::McStats::new(sc);
+    if let Some(n) = p.nodes.iter().find(|n| !n.stats.same_shape(&want)) {
+        let b = n.blocks();
+        return Err(Error::invalid(
+            "merge",
+            format!(
+                "scenario {}: the accumulators of blocks {}..{} do not fit this experiment",
+                sc.index, b.start, b.end
+            ),
+        ));
+    }
+    Ok(p)
 }
 
 /// One bar per scenario, counting the trials the user asked for (not trials × scenarios).

@@ -36,6 +36,8 @@ pub struct ScenarioOutcome {
     pub mc: McStats,
     pub mc_seconds: f64,
     pub trajectories: Vec<Trajectory>,
+    /// With `--per-trial`: per filter, the summed error J of every trial in trial order (else empty).
+    pub per_trial: Vec<Vec<f64>>,
     /// Per filter, in the file's order: the figures derived from its exact error and Monte Carlo.
     pub filters: Vec<FilterOutcome>,
 }

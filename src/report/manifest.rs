@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::pipeline::RunOutcome;
 
 /// Command-line values that replaced the file's.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 pub struct Overrides {
     pub trials: Option<usize>,
     pub seed: Option<u64>,

@@ -9,7 +9,10 @@ pub mod console;
 pub mod manifest;
 pub mod output;
 pub mod parquet;
+pub mod partial;
 pub mod recording;
+pub mod shards;
+pub mod trials;
 
 use std::path::Path;
 

@@ -22,10 +22,11 @@ const STAGING_MARKER: &str = ".filterbench-staging";
 /// limit on a file name of every common file system.
 pub const MAX_NAME_BYTES: usize = 255 - ".".len() - ".tmp-".len() - 10;
 
-/// The files a result folder holds: the tables, the manifest and the recording.
+/// The files a result folder holds: the tables, the manifest and the recording; or a shard's
+/// partial result ([`super::partial`]).
 pub fn result_files() -> Vec<&'static str> {
     let mut v: Vec<&str> = super::parquet::TABLES.iter().map(|(f, _)| *f).collect();
-    v.extend([MANIFEST, "recording.rrd"]);
+    v.extend([MANIFEST, "recording.rrd", super::partial::META, super::partial::NODES]);
     v
 }
 
@@ -93,18 +94,20 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 }
 
 /// Why `dir` is not an earlier filterbench result, or None if it is one (or is empty): it may hold
-/// only the files of [`result_files`], and its manifest, if any, must be filterbench's.
+/// only the files of [`result_files`], and its manifest or partial.json, if any, must be filterbench's.
 fn foreign_content(dir: &Path) -> Result<Option<String>> {
     let allowed = result_files();
     let mut others = Vec::new();
-    let mut manifest = false;
+    let mut manifests = Vec::new();
     for entry in fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
         let entry = entry.map_err(|e| Error::io(dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
         let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
         // The marker can only be left by a commit interrupted between its rename and its removal.
         if is_file && (allowed.contains(&name.as_str()) || name == STAGING_MARKER) {
-            manifest |= name == MANIFEST;
+            if name == MANIFEST || name == super::partial::META {
+                manifests.push(name);
+            }
         } else {
             others.push(name);
         }
@@ -115,8 +118,8 @@ fn foreign_content(dir: &Path) -> Result<Option<String>> {
         let more = if others.len() > 3 { format!(" and {} more", others.len() - 3) } else { String::new() };
         return Ok(Some(format!("it holds {}{more}, which filterbench did not write", shown.join(", "))));
     }
-    if manifest && !is_result_manifest(&dir.join(MANIFEST)) {
-        return Ok(Some(format!("its {MANIFEST} was not written by filterbench")));
+    if let Some(m) = manifests.iter().find(|m| !is_result_manifest(&dir.join(m))) {
+        return Ok(Some(format!("its {m} was not written by filterbench")));
     }
     Ok(None)
 }

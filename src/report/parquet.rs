@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use polars::prelude::*;
 use polars::io::parquet::write::BatchedWriter;
+use polars::prelude::*;
 
 use crate::config::Experiment;
 use crate::error::{Error, Result};
@@ -21,6 +21,7 @@ pub const TABLES: &[(&str, Part)] = &[
     ("gains.parquet", gains),
     ("paired.parquet", |e, o, b| b.put(paired(e, o)?)),
     ("design_trace.parquet", |e, o, b| b.put(trace(e, o)?)),
+    (super::trials::FILE, |e, o, b| b.put(super::trials::table(e, o)?)),
 ];
 
 /// Rows per row group, as polars' own writer cuts a whole frame.
@@ -60,6 +61,9 @@ impl Batches {
 /// `variant` column, stacked in run order.
 pub fn write_tables(runs: &[(&Experiment, &RunOutcome)], dir: &Path) -> Result<()> {
     for (file, part) in TABLES {
+        if *file == super::trials::FILE && !runs.iter().any(|(e, _)| e.per_trial) {
+            continue;
+        }
         let path = dir.join(file);
         let what = path.display().to_string();
         let f = std::fs::File::create(&path).map_err(|e| Error::io(&path, e))?;
@@ -145,7 +149,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.mc_seconds.push(sc.mc_seconds);
         }
     }
-    frame(vec![
+    let mut df = frame(vec![
         col("experiment", c.experiment),
         col("scenario", c.scenario),
         col("covariance", c.covariance),
@@ -190,7 +194,11 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("guarantee_applies", c.guarantee_applies),
         col("design_seconds", c.design_seconds),
         col("mc_seconds", c.mc_seconds),
-    ])
+    ])?;
+    if exp.per_trial {
+        super::trials::add_quantiles(&mut df, out)?;
+    }
+    Ok(df)
 }
 
 #[derive(Default)]

@@ -7,3 +7,4 @@ pub mod montecarlo;
 pub mod noise;
 mod plant_ops;
 pub mod stats;
+pub mod tree;

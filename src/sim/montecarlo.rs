@@ -3,10 +3,11 @@
 //!
 //! Trials are cut into fixed blocks of [`BLOCK`] trials, simulated together in lanes
 //! ([`crate::sim::block`]). A block's statistics per (filter, step) are computed over its lanes;
-//! blocks run in parallel and their statistics are merged with Chan's formula in block order.
+//! blocks run in parallel and their statistics are merged with Chan's formula in the fixed order of
+//! a dyadic tree over block indices ([`crate::sim::tree`]), which any cut into shards reproduces.
 //! Together with per-trial random streams ([`crate::sim::noise::trial_rng`]) this makes every
-//! figure bit-identical for any number of threads. Memory is O(filters × steps), independent of
-//! the number of trials.
+//! figure bit-identical for any number of threads and any cut into shards. Memory is
+//! O(filters × steps × log blocks) (the tree's stack), not growing with the trials beyond that log.
 
 use rayon::prelude::*;
 
@@ -21,6 +22,7 @@ use crate::sim::lanes::{self, LANES};
 use crate::sim::noise::NoiseSampler;
 pub use crate::sim::plant_ops::PlantOps;
 use crate::sim::stats::Welford;
+use crate::sim::tree::{Node, Tree};
 
 /// Trials per block: the lanes simulated together, the unit of parallel work and of the fixed
 /// reduction order.
@@ -51,7 +53,7 @@ pub struct McStats {
 }
 
 impl McStats {
-    pub(super) fn new(sc: &Scenario) -> Self {
+    pub fn new(sc: &Scenario) -> Self {
         let (nf, steps) = (sc.filters.len(), sc.plant.steps());
         McStats {
             filters: (0..nf)
@@ -66,7 +68,7 @@ impl McStats {
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
         }
     }
-    fn merge(&mut self, o: &McStats) {
+    pub(crate) fn merge(&mut self, o: &McStats) {
         for (a, b) in self.filters.iter_mut().zip(&o.filters) {
             a.total.merge(&b.total);
             a.max_ratio = a.max_ratio.max(b.max_ratio);
@@ -78,6 +80,11 @@ impl McStats {
         for (a, b) in self.paired.iter_mut().zip(&o.paired) {
             a.merge(b);
         }
+    }
+    /// Whether `o` has the same accumulators (filters, steps, NEES, pairs): only then do they merge.
+    pub fn same_shape(&self, o: &McStats) -> bool {
+        let f = |m: &McStats| m.filters.iter().map(|f| (f.steps.len(), f.nees.len())).collect::<Vec<_>>();
+        self.paired.len() == o.paired.len() && f(self) == f(o)
     }
     /// The pairs (i, j) in the order of `paired`.
     pub fn pairs(nf: usize) -> Vec<(usize, usize)> {
@@ -121,8 +128,9 @@ pub struct RatioCheck<'a> {
 }
 
 /// Runs block `first..first + active` and returns its statistics: per (filter, step) the mean and
-/// spread over the block's lanes ([`Welford::of`]), ready to be merged in block order.
-pub fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -> McStats {
+/// spread over the block's lanes ([`Welford::of`]), ready to be merged in block order; and per
+/// filter each lane's summed error J.
+pub fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -> (McStats, Vec<[f64; LANES]>) {
     let nf = sc.filters.len();
     let mut st = McStats::new(sc);
     let plant = sc.plant;
@@ -163,36 +171,70 @@ pub fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -
         lanes::difference(&totals[i..=i], &totals[j..=j], std::slice::from_mut(&mut d));
         *acc = Welford::of(&d[..active]);
     }
-    st
+    (st, totals)
 }
 
 /// Blocks run in parallel per wave; a wave's results are merged before the next starts, so memory
 /// stays bounded by `WAVE` accumulators whatever the number of trials.
 pub const WAVE: u64 = 256;
 
-/// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
-/// number of trials finished by each block.
-pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McStats {
-    let mut out = McStats::new(sc);
-    let nblocks = trials.div_ceil(BLOCK);
-    for wave in (0..nblocks).step_by(WAVE as usize) {
-        let parts: Vec<McStats> = (wave..(wave + WAVE).min(nblocks))
+/// The number of blocks of a run of `trials` trials.
+pub fn blocks(trials: u64) -> u64 {
+    trials.div_ceil(BLOCK)
+}
+
+/// What a run of a range of blocks hands on: its maximal tree nodes ([`crate::sim::tree`]) and,
+/// when asked for, per filter the summed error J of each of its trials in trial order.
+pub struct Partial {
+    pub nodes: Vec<Node>,
+    pub per_trial: Vec<Vec<f64>>,
+}
+
+/// Runs blocks `range` of a run of `trials` trials of one scenario on the current rayon pool.
+/// `progress` is called with the number of trials finished by each block.
+pub fn run_range(
+    sc: &Scenario,
+    trials: u64,
+    range: std::ops::Range<u64>,
+    per_trial: bool,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Partial {
+    let mut tree = Tree::default();
+    let mut per = vec![Vec::new(); if per_trial { sc.filters.len() } else { 0 }];
+    for wave in range.clone().step_by(WAVE as usize) {
+        let parts: Vec<_> = (wave..(wave + WAVE).min(range.end))
             .into_par_iter()
             .map_init(
                 || Workspace::new(sc),
                 |ws, b| {
                     let (first, last) = (b * BLOCK, ((b + 1) * BLOCK).min(trials));
-                    let st = run_block(sc, ws, first, (last - first) as usize);
+                    let active = (last - first) as usize;
+                    let (st, totals) = run_block(sc, ws, first, active);
                     progress(last - first);
-                    st
+                    (b, st, totals, active)
                 },
             )
             .collect();
-        for p in &parts {
-            out.merge(p);
+        for (b, stats, totals, active) in parts {
+            for (p, t) in per.iter_mut().zip(&totals) {
+                p.extend_from_slice(&t[..active]);
+            }
+            tree.push(Node { level: 0, index: b, stats });
         }
     }
-    out
+    Partial { nodes: tree.into_nodes(), per_trial: per }
+}
+
+/// The statistics of a whole run from its tree nodes in block order (one range's or every
+/// shard's, shard after shard): the same merges whoever computed the nodes.
+pub fn reduce(sc: &Scenario, nodes: impl IntoIterator<Item = Node>) -> McStats {
+    Tree::from_nodes(nodes).finish(McStats::new(sc))
+}
+
+/// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
+/// number of trials finished by each block.
+pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McStats {
+    reduce(sc, run_range(sc, trials, 0..blocks(trials), false, progress).nodes)
 }
 
 /// One recorded trial: the truth z[k] and every filter's estimate ẑ[k] (columns are steps).

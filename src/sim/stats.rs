@@ -24,7 +24,8 @@ pub const Z95: f64 = 1.959_963_984_540_054;
 pub struct Welford {
     pub n: u64,
     pub mean: f64,
-    m2: f64,
+    /// Σ (x − mean)²: with n and mean, the whole state (a shard hands all three on).
+    pub m2: f64,
 }
 
 impl Welford {

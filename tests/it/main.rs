@@ -27,6 +27,7 @@ mod output_safety;
 mod promises;
 mod recording;
 mod sdp;
+mod shards;
 mod strict_files;
 mod time_varying;
 mod unstable;
