@@ -36,9 +36,9 @@ use crate::error::{Error, Result};
 use crate::filter::realization::Realization;
 use crate::model::plant::Plant;
 use crate::numerics::linalg::{Mat, symmetrize};
-use crate::numerics::solve::line::bisect;
 use crate::numerics::solve::affine::{AffMat, Vars};
 use crate::numerics::solve::conic::{Conic, Failure, Tuning};
+use crate::numerics::solve::line::bisect;
 
 /// The level of a bound: a total anisotropy a ≥ 0 (over lw = mw(N+1)), or H∞ (a = ∞).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -418,7 +418,8 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
     }
     // q̄ ≤ 1/λmax(Λ) ≤ lw/tr Λ (Theorem 1's H∞ bound 1/q̄ is at least the exact λmax), and every
     // S̃ = I at q = 0.
-    let (q_bar, _) = bisect(0.0, 2.0 * lw / trace, |q| ln_det(q).is_some(), |lo, hi| hi - lo <= 4.0 * f64::EPSILON * hi, 400);
+    let (q_bar, _) =
+        bisect(0.0, 2.0 * lw / trace, |q| ln_det(q).is_some(), |lo, hi| hi - lo <= 4.0 * f64::EPSILON * hi, 400);
     let (gamma_sq, q) = match level {
         Level::Hinf => (1.0 / q_bar, q_bar),
         Level::Anisotropy(a) => {

@@ -161,13 +161,7 @@ unsafe fn simulate_avx2(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
 }
 
 #[inline(always)]
-fn simulate_lanes(
-    sc: &Scenario,
-    ws: &mut Workspace,
-    first: u64,
-    active: usize,
-    mut visit: impl FnMut(StepView),
-) {
+fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, mut visit: impl FnMut(StepView)) {
     let p = sc.plant;
     let ops = sc.ops;
     let nm = ops.modes;

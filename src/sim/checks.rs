@@ -10,7 +10,16 @@ use crate::sim::montecarlo::{FilterStats, Scenario};
 
 /// The ellipsoid check of filter f at step k: e = e_z[k], `energy` = E_k; a lane that breaks it
 /// at any step is marked in `broke`.
-pub fn ellipsoid(sc: &Scenario, f: usize, k: usize, e: &[Row], energy: &Row, active: usize, st: &mut FilterStats, broke: &mut Row) {
+pub fn ellipsoid(
+    sc: &Scenario,
+    f: usize,
+    k: usize,
+    e: &[Row],
+    energy: &Row,
+    active: usize,
+    st: &mut FilterStats,
+    broke: &mut Row,
+) {
     let Some(Some(PerTrialBound::Ellipsoid { weights })) = sc.ratios.map(|rc| rc.bounds[f]) else { return };
     let Some(q) = weights.get(k) else { return };
     let mut v = [0.0; LANES];

@@ -36,7 +36,9 @@ const NOISE: &str = "arrival = 0.9\n\n[[plant.multiplicative]]\nname = \"gust\"\
 fn plant(pattern: &str, horizon: usize, extra: &str, filters: &str) -> Experiment {
     let known = "x0 = [[0.0, 0.0], [0.0, 0.0]]";
     let filters = if filters.is_empty() { KALMAN } else { filters };
-    parse(&plant_text(pattern, horizon, false, extra, filters, SCENARIOS).replace("x0 = [[1.0, 0.2], [0.2, 0.5]]", known))
+    parse(
+        &plant_text(pattern, horizon, false, extra, filters, SCENARIOS).replace("x0 = [[1.0, 0.2], [0.2, 0.5]]", known),
+    )
 }
 
 const ALL: [Structure; 4] = [Structure::Predictor, Structure::Static, Structure::GammaZero, Structure::GammaMean];
@@ -92,7 +94,8 @@ fn theorem1_lmis_in_clarabel_reach_their_riccati_optimum() {
         for s in [Structure::Predictor, Structure::GammaZero] {
             let c = anisotropic::synthesize_checked(p, s, level).unwrap();
             let real = anisotropic::realization(p, &c.synthesis);
-            let (exact, sdp) = (theorem1::analyze(p, &real, level).unwrap(), theorem1::analyze_sdp(p, &real, level).unwrap());
+            let (exact, sdp) =
+                (theorem1::analyze(p, &real, level).unwrap(), theorem1::analyze_sdp(p, &real, level).unwrap());
             eprintln!("{level:?} {s:?}: Riccati {:.9}, clarabel {:.9}", exact.gamma_sq, sdp.gamma_sq);
             assert!((exact.gamma_sq - sdp.gamma_sq).abs() <= 1e-4 * exact.gamma_sq, "{exact:?} vs {sdp:?}");
         }
@@ -106,7 +109,8 @@ fn dropouts_design_the_same_bound_as_a_rademacher_factor() {
     let dropout = parse(&known(no_c_steps(plant_text("prediction", 25, false, "arrival = 0.5", KALMAN, SCENARIOS))));
     let lambda = "[[plant.multiplicative]]\nname = \"lambda\"\nshape = \"rademacher\"\nC = [[0.5, 0.0]]\n";
     let factor = parse(
-        &known(no_c_steps(plant_text("prediction", 25, false, lambda, KALMAN, SCENARIOS))).replace("C = [[1.0, 0.0]]", "C = [[0.5, 0.0]]"),
+        &known(no_c_steps(plant_text("prediction", 25, false, lambda, KALMAN, SCENARIOS)))
+            .replace("C = [[1.0, 0.0]]", "C = [[0.5, 0.0]]"),
     );
     for level in [Level::Anisotropy(4.0), Level::Hinf] {
         let (a, b) = (
@@ -121,7 +125,9 @@ fn dropouts_design_the_same_bound_as_a_rademacher_factor() {
 
 #[test]
 fn structures_refuse_what_breaks_their_conditions() {
-    let filter = |s: &str| format!("[[filters]]\nname = \"f\"\nfamily = \"anisotropic\"\nanisotropy = 1.0\nstructure = \"{s}\"\n");
+    let filter = |s: &str| {
+        format!("[[filters]]\nname = \"f\"\nfamily = \"anisotropic\"\nanisotropy = 1.0\nstructure = \"{s}\"\n")
+    };
     // A structure that uses y(k) in a prediction experiment.
     for s in ["static", "gamma_zero", "gamma_mean"] {
         let err = pipeline::design_all(&plant("prediction", 8, NOISE, &filter(s))).err().expect("refused").to_string();
@@ -129,7 +135,8 @@ fn structures_refuse_what_breaks_their_conditions() {
     }
     // The static filter cannot follow a known input.
     let input = "known_input = { kind = \"sine\", amplitude = [0.0, 0.2], frequency = 0.05 }\n";
-    let err = pipeline::design_all(&plant("filtering", 8, input, &filter("static"))).err().expect("refused").to_string();
+    let err =
+        pipeline::design_all(&plant("filtering", 8, input, &filter("static"))).err().expect("refused").to_string();
     assert!(err.contains("§4.2.2") && err.contains("known input"), "{err}");
     // An unknown structure is refused when the file is read.
     let err = filterbench::config::parse(
@@ -151,7 +158,10 @@ fn monte_carlo_matches_exact_for_every_structure() {
     let filters: String = ALL
         .iter()
         .map(|s| {
-            format!("[[filters]]\nname = \"{0}\"\nfamily = \"anisotropic\"\nanisotropy = 2.0\nstructure = \"{0}\"\n\n", s.name())
+            format!(
+                "[[filters]]\nname = \"{0}\"\nfamily = \"anisotropic\"\nanisotropy = 2.0\nstructure = \"{0}\"\n\n",
+                s.name()
+            )
         })
         .chain(std::iter::once(KALMAN.to_string()))
         .collect();

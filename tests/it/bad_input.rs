@@ -223,7 +223,10 @@ fn bad_dropouts_anisotropy_and_variants() {
         &["anisotropic", "structure \"static\"", "pattern = \"filtering\""],
     );
     fails_cleanly(
-        &base.patch("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", "anisotropy = 20.0\nstructure = \"general\"\n\n[[filters]]\nname = \"h2"),
+        &base.patch(
+            "anisotropy = 20.0\n\n[[filters]]\nname = \"h2",
+            "anisotropy = 20.0\nstructure = \"general\"\n\n[[filters]]\nname = \"h2",
+        ),
         &["filters.anisotropic.structure", "general"],
     );
     fails_cleanly(

@@ -188,7 +188,8 @@ fn kalman_is_optimal_on_a_time_varying_plant() {
 fn markov_modes_on_a_time_varying_plant() {
     let filters = "[[filters]]\nname = \"mj\"\nfamily = \"markov_jump\"\n\n[[filters]]\nname = \"averaged\"\nfamily = \"kalman\"\nplant = \"mode_averaged\"\n";
     let modes = "[modes]\ntransition = [[0.9, 0.1], [0.2, 0.8]]\n[[modes.mode]]\nname = \"x\"\n[[modes.mode]]\nname = \"y\"\nA = [[0.5, 0.0], [0.0, 0.5]]\n";
-    let exp = parse(&plant_text("prediction", 30, true, "", filters, &format!("[[scenarios]]\nname = \"n\"\n\n{modes}")));
+    let exp =
+        parse(&plant_text("prediction", 30, true, "", filters, &format!("[[scenarios]]\nname = \"n\"\n\n{modes}")));
     assert!(exp.plant.time_varying() && exp.plant.n_modes() == 2);
     assert!(exp.plant.a_of(3, 0) != exp.plant.a_of(4, 0) && exp.plant.a_of(3, 1) == exp.plant.a_of(4, 1));
     assert!(exp.plant.c_of(3, 1).as_ref() != exp.plant.c_of(4, 1).as_ref());
