@@ -257,10 +257,9 @@ pub fn analyze_sdp(plant: &Plant, real: &Realization, level: Level) -> Result<Sd
     let probs = plant.mode_probabilities();
     let mw = plant.nw();
     let mut vars = Vars::default();
-    let cond_vars = Conditions::new(&mut vars, level);
+    let mut cond = Conditions::new(&mut vars, level);
     let n = plant.nx() + real.ns();
     let p: Vec<AffMat> = (0..plant.steps()).map(|_| vars.symmetric(n)).collect();
-    let mut cond = cond_vars;
     cond.determinant_variables(&mut vars, plant.steps(), mw);
     let steps: Vec<Step> = (0..plant.steps())
         .map(|k| {
