@@ -124,11 +124,23 @@ pub fn input_weight(plant: &Plant, weights: &Covariances) -> Mat {
 /// The generalized H∞ norm² λmax(Ψ K Ψᵀ) and the worst input on the ellipsoid boundary,
 /// ξ* = K^½ v with v the top eigenvector of K^½ᵀ Ψᵀ Ψ K^½ (faer), so ξ*ᵀ K⁻¹ ξ* = 1 when K ≻ 0.
 pub fn norm(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, Vector)> {
+    norm_with_error(plant, real, weights, s).map(|(top, _, xi)| (top, xi))
+}
+
+/// [`norm`] with the rounding bound of the computed λmax ([`crate::numerics::accuracy::eigenvalue_error`]),
+/// so that a per-trial bound λ is promised only when λmax + error < λ.
+pub fn norm_with_error(
+    plant: &Plant,
+    real: &Realization,
+    weights: &Covariances,
+    s: &Mat,
+) -> Result<(f64, f64, Vector)> {
     let psi = operator(plant, real, s)?;
     let k_half = psd_factor(&input_weight(plant, weights));
     let a = &psi * &k_half;
-    let (top, v) = top_eigen(&(a.transpose() * &a))?;
-    Ok((top, k_half * v))
+    let gram = a.transpose() * &a;
+    let (top, v) = top_eigen(&gram)?;
+    Ok((top, crate::numerics::accuracy::eigenvalue_error(&gram), k_half * v))
 }
 
 /// The generalized H∞ norm² of a predictor realization (s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s)
@@ -138,8 +150,8 @@ pub fn norm(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -
 ///     [[AcᵀX⁺Ac − X, AcᵀX⁺Bc, Czᵀ], [BcᵀX⁺Ac, BcᵀX⁺Bc − G⁻¹, 0], [Cz, 0, −λI]] ⪯ 0,
 ///     [[X[N], S^½], [S^½, λI]] ⪰ 0.
 ///
-/// Independent of [`norm`]: no operator is formed. Returns (λ*, clarabel's iterations, seconds).
-pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, u32, f64)> {
+/// Independent of [`norm`]: no operator is formed. Returns (λ*, clarabel's objective_error, its iterations, seconds).
+pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, f64, u32, f64)> {
     let (n, nw, nz, nn) = (plant.nx(), plant.nw(), plant.nz(), plant.horizon);
     for (t, g) in real.gains.iter().map(|g| &g[0]).enumerate() {
         let predictor = (&g.af - (plant.a_at(t) - &g.bf * &*plant.c_at(t))).amax() < 1e-12
@@ -217,5 +229,5 @@ pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Ma
     cost[lam] = 1.0;
     let sol =
         program.minimize(&cost).map_err(|e| Error::invalid("hinf", format!("the SDP (4.7) was not solved: {e}")))?;
-    Ok((sol.x[lam], sol.iterations, sol.seconds))
+    Ok((sol.x[lam], sol.objective_error, sol.iterations, sol.seconds))
 }

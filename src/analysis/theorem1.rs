@@ -227,18 +227,35 @@ fn rotated_cone(conic: &mut Conic, a: &Scalar, b: &Scalar, u: usize) {
 #[derive(Clone, Debug)]
 pub struct SdpAnalysis {
     pub gamma_sq: f64,
+    /// clarabel's first-order bound on |γ² − the program's optimum| (`Solution::objective_error`).
+    pub objective_error: f64,
+    /// clarabel stopped at its reduced tolerances (AlmostSolved).
+    pub almost: bool,
+    pub iterations: u32,
     pub variables: usize,
     pub rows: usize,
     pub seconds: f64,
 }
 
 /// What Theorem 1 certifies for a given filter by [`analyze`]: the least γ² of (4.25)–(4.29), the q
-/// that attains it, and the time taken.
+/// that attains it, a bound on the rounding error of γ² at that q, and the time taken.
 #[derive(Clone, Copy, Debug)]
 pub struct Analysis {
     pub gamma_sq: f64,
     pub q: f64,
+    /// First-order bound on |computed γ²(q) − γ²(q)| ([`analyze`]'s error analysis).
+    pub error: f64,
     pub seconds: f64,
+}
+
+impl Analysis {
+    /// The certified bound: γ²(q) rounded up past its error. Theorem 1 proves |||F|||²_a ≤ γ²(q)
+    /// for every q at which every S̃(k) ≻ 0, and [`analyze`] only accepts a q whose S̃(k) are
+    /// positive definite by more than their eigenvalues' error, so this is a bound on the filter's
+    /// norm, not a value within a tolerance of one.
+    pub fn certified(&self) -> f64 {
+        crate::numerics::accuracy::round_up(self.gamma_sq, self.error)
+    }
 }
 
 /// Theorem 1 as an analysis condition: the filter `real` is given, so (4.25)–(4.29) are LMIs in a
@@ -290,7 +307,15 @@ pub fn analyze_sdp(plant: &Plant, real: &Realization, level: Level) -> Result<Sd
         .minimize_tuned(&cost, &Tuning::default())
         .or_else(|_| conic.minimize_tuned(&cost, &Tuning::robust()))
         .map_err(|f: Failure| Error::invalid("anisotropy", format!("Theorem 1's analysis LMIs (4.25)–(4.29): {f}")))?;
-    Ok(SdpAnalysis { gamma_sq: sol.x[cond.gsq], variables: vars.count, rows, seconds: t.elapsed().as_secs_f64() })
+    Ok(SdpAnalysis {
+        gamma_sq: sol.x[cond.gsq],
+        objective_error: sol.objective_error,
+        almost: sol.almost,
+        iterations: sol.iterations,
+        variables: vars.count,
+        rows,
+        seconds: t.elapsed().as_secs_f64(),
+    })
 }
 
 /// The error system of step k as a mean and zero-mean unit-variance terms: the mode's deviation
@@ -345,6 +370,15 @@ fn error_terms(plant: &Plant, real: &Realization, k: usize, probs: &[f64]) -> Ve
 /// (AlmostSolved, 0.5 % apart between settings on aniso_dropout). R is carried divided by q, so
 /// q → 0 loses nothing: at a = 0 the bound tends to tr E[ℬᵀR̃ℬ + 𝒟ᵀ𝒟]/lw = ‖F‖₂²/lw, the exact
 /// H2 limit (Jensen's gap vanishes with the quadratic term).
+///
+/// **Error analysis.** Each step forms R(k) from R(k+1) by a fixed number of products of
+/// (n_ξ × n_ξ) and (n_ξ × m_w) matrices, a relative rounding of about n_ξ ε; carried through the m
+/// steps after k by a stable error system, R(k)'s relative error is at most about m n_ξ ε to first
+/// order, and so is that of N̂(k) = E[ℬᵀR̃'ℬ + 𝒟ᵀ𝒟], whose eigenvalues μ are computed to
+/// [`crate::numerics::accuracy::eigenvalue_error`] besides. So each μ carries an error
+/// δμ = (m + 1) n ε ‖N̂(k)‖_F (n = max(n_ξ, m_w)); a q is accepted only where q(μ + δμ) < 1 for every
+/// μ (S̃ ≻ 0 for certain), ln det S̃ errs by at most Σ qδμ/(1 − q(μ + δμ)), and γ²(q) by e^L/q times
+/// the summed error over lw (L the exponent of γ²(q)), plus the last roundings.
 pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analysis> {
     if plant.switches() && !plant.independent_modes() {
         return Err(Error::invalid(
@@ -369,11 +403,13 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
         .collect();
     let lw = (plant.nw() * plant.steps()) as f64;
     let n = plant.nx() + real.ns();
-    // Σ ln det S̃(k) at q, or None when some S̃(k) is not positive definite.
-    let ln_det = |q: f64| -> Option<f64> {
+    // Σ ln det S̃(k) at q and its error bound, or None when some S̃(k) is not positive definite
+    // beyond its eigenvalues' error.
+    let ln_det = |q: f64| -> Option<(f64, f64)> {
         let mut r = Mat::zeros(n, n);
         let mut total = 0.0;
-        for terms in steps.iter().rev() {
+        let mut error = 0.0;
+        for (after, terms) in steps.iter().rev().enumerate() {
             let nw = terms[0].e.ncols();
             let (mut nn, mut bb, mut rr) = (Mat::zeros(nw, nw), Mat::zeros(nw, n), Mat::zeros(n, n));
             for a in terms {
@@ -385,10 +421,12 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
             // S̃ = I − qN̂ with N̂ = N/q's eigenvalues μ: ln det S̃ = Σ ln(1 − qμ) by log1p, which
             // keeps its digits for the q ~ 1e-12 q̄ where the a = 0 bound is taken.
             let eig = symmetrize(&nn).symmetric_eigen();
-            if eig.eigenvalues.iter().any(|m| q * m >= 1.0) {
+            let dmu = (after + 1) as f64 * crate::numerics::accuracy::eigenvalue_error_of(n.max(nw), nn.norm());
+            if eig.eigenvalues.iter().any(|m| q * (m + dmu) >= 1.0) {
                 return None;
             }
             total += eig.eigenvalues.iter().map(|m| (-q * m).ln_1p()).sum::<f64>();
+            error += eig.eigenvalues.iter().map(|m| q * dmu / (1.0 - q * (m + dmu)) + f64::EPSILON).sum::<f64>();
             let inv = Mat::from_diagonal(&eig.eigenvalues.map(|m| 1.0 / (1.0 - q * m)));
             let s_inv = &eig.eigenvectors * inv * eig.eigenvectors.transpose();
             // R̃ = R/q: R̃(k) = E[𝒜ᵀR̃'𝒜 + 𝒞ᵀ𝒞] + q L̂ᵀ S̃⁻¹ L̂ with L̂ = L̃/q.
@@ -397,7 +435,7 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
                 return None;
             }
         }
-        Some(total)
+        Some((total, error))
     };
     let trace = {
         let mut r = Mat::zeros(n, n);
@@ -413,20 +451,24 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
         tr
     };
     if !(trace > 0.0) {
-        return Ok(Analysis { gamma_sq: 0.0, q: 0.0, seconds: t.elapsed().as_secs_f64() });
+        return Ok(Analysis { gamma_sq: 0.0, q: 0.0, error: 0.0, seconds: t.elapsed().as_secs_f64() });
     }
     // q̄ ≤ 1/λmax(Λ) ≤ lw/tr Λ (Theorem 1's H∞ bound 1/q̄ is at least the exact λmax), and every
     // S̃ = I at q = 0.
     let (q_bar, _) =
         bisect(0.0, 2.0 * lw / trace, |q| ln_det(q).is_some(), |lo, hi| hi - lo <= 4.0 * f64::EPSILON * hi, 400);
-    let (gamma_sq, q) = match level {
-        Level::Hinf => (1.0 / q_bar, q_bar),
+    let (gamma_sq, q, error) = match level {
+        // 1/q̄ with every S̃(q̄) ≻ 0 beyond its error: only the division rounds.
+        Level::Hinf => (1.0 / q_bar, q_bar, 2.0 * f64::EPSILON / q_bar),
         Level::Anisotropy(a) => {
-            let at = |q: f64| ln_det(q).map_or(f64::INFINITY, |ld| -((ld - 2.0 * a) / lw).exp_m1() / q);
-            minimize_on(&at, q_bar)
+            let at = |q: f64| ln_det(q).map_or(f64::INFINITY, |(ld, _)| -((ld - 2.0 * a) / lw).exp_m1() / q);
+            let (gamma_sq, q) = minimize_on(&at, q_bar);
+            let (ld, ld_error) = ln_det(q).expect("the minimizer is a feasible q");
+            let l = (ld - 2.0 * a) / lw;
+            (gamma_sq, q, l.exp() / q * ld_error / lw + 4.0 * f64::EPSILON * gamma_sq.abs())
         }
     };
-    Ok(Analysis { gamma_sq, q, seconds: t.elapsed().as_secs_f64() })
+    Ok(Analysis { gamma_sq, q, error, seconds: t.elapsed().as_secs_f64() })
 }
 
 /// min over q ∈ (0, q̄) of γ²(q): a geometric grid from 1e-12 q̄ to q̄(1 − 1e-12) (γ²(q) is smooth

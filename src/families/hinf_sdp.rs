@@ -51,6 +51,9 @@ pub struct SdpDesign {
     pub gains: Vec<Mat>,
     /// X[0..N] at the solution.
     pub storage: Vec<Mat>,
+    /// clarabel's first-order bound on |costᵀx − optimum| (`Solution::objective_error`): for
+    /// [`minimize_lambda`], how far λ may be from λ_min on the solver's side.
+    pub objective_error: f64,
     pub iterations: u32,
     pub seconds: f64,
     /// Scalar variables, PSD blocks (their sizes).
@@ -134,6 +137,7 @@ fn finish(p: &Program, plant: &Plant, sol: &Solution, lambda: f64) -> Result<Sdp
         lambda,
         gains,
         storage,
+        objective_error: sol.objective_error,
         iterations: sol.iterations,
         seconds: sol.seconds,
         variables: p.vars,

@@ -202,7 +202,11 @@ impl Design {
 /// (a = ∞: every input; the H∞-suboptimal filter).
 #[derive(Clone, Copy, Debug)]
 pub struct GainBound {
+    /// The guaranteed γ², certified: at least Theorem 1's bound for the returned filter rounded up
+    /// past its error (`families::anisotropic::Checked::certified_sq`).
     pub gamma_sq: f64,
+    /// The design program's γ² as clarabel returned it (the `design_gain` column).
+    pub design_gamma_sq: f64,
     pub anisotropy: f64,
     /// What seed 003's Theorem 1 certifies for the designed filter with a full P(k)
     /// (`analysis::theorem1::analyze`): between the exact norm² and γ²; its gap to γ² is what the

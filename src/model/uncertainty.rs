@@ -157,6 +157,14 @@ impl CovSet {
     /// PSD intersection the closed form is kept when it is PSD (it is then optimal on the smaller
     /// set too), otherwise, and for Loewner intervals, clarabel solves the SDP.
     pub fn argmax_linear(&self, g: &Mat) -> Result<Mat> {
+        self.linear_max(g).map(|(s, _)| s)
+    }
+
+    /// [`CovSet::argmax_linear`] and a certified upper bound on max ⟨G, S⟩ over the set: the value
+    /// itself where the maximizer has a closed form, the weak-duality bound of
+    /// [`crate::numerics::solve::sdp::certified_upper`] where clarabel finds it (None where the
+    /// closed form is exact).
+    pub fn linear_max(&self, g: &Mat) -> Result<(Mat, Option<f64>)> {
         let closed = match &self.shape {
             SetShape::Box { center, half_width } => Some(center + half_width.zip_map(g, |h, v| h * signum0(v))),
             SetShape::Ball { center, radius } => {
@@ -166,10 +174,10 @@ impl CovSet {
             SetShape::Loewner { .. } => None,
         };
         if let Some(s) = closed.filter(|s| !self.psd || is_psd(s)) {
-            return Ok(s);
+            return Ok((s, None));
         }
         max_linear(g, g.nrows(), &self.constraints())
-            .map(|r| r.argmax)
+            .map(|r| (r.argmax, Some(r.upper)))
             .map_err(|e| Error::invalid(format!("{} set", self.kind()), format!("linear maximization failed: {e}")))
     }
 
@@ -250,10 +258,16 @@ impl CovSet {
         }
     }
 
-    /// ⟨G, S⟩ at the maximizer minus at `at`: the gap term of seed 000 Algorithm 1, step 3.
+    /// The maximum of ⟨G, S⟩ over the set (its certified upper bound, [`CovSet::linear_max`]) minus
+    /// ⟨G, at⟩, and the maximizer: the gap term of seed 000 Algorithm 1, step 3, and the gain of a
+    /// worst case over the set.
     pub fn linear_gain(&self, g: &Mat, at: &Mat) -> Result<(f64, Mat)> {
-        let s = self.argmax_linear(g)?;
-        Ok((frob_dot(g, &(&s - at)), s))
+        let (s, upper) = self.linear_max(g)?;
+        let gain = match upper {
+            None => frob_dot(g, &(&s - at)),
+            Some(upper) => upper - frob_dot(g, at),
+        };
+        Ok((gain, s))
     }
 }
 

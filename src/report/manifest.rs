@@ -67,7 +67,7 @@ fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<
                 "design_covariance": d.design.design_covariance.as_ref().map(cov_json),
                 "diagnostics": d.design.manifest_diagnostics(),
                 "anisotropic": d.anisotropic.map(|x| serde_json::json!({"norm_sq": x.norm_sq, "h2_sq": x.h2_sq, "hinf_sq": x.hinf_sq})),
-                "gain_bound": d.design.gain_bound.map(|g| serde_json::json!({"gamma_sq": g.gamma_sq, "anisotropy": g.anisotropy, "theorem1_sq": g.theorem1_sq})),
+                "gain_bound": d.design.gain_bound.map(|g| serde_json::json!({"gamma_sq": g.gamma_sq, "design_gamma_sq": g.design_gamma_sq, "anisotropy": g.anisotropy, "theorem1_sq": g.theorem1_sq})),
             })
         })
         .collect();

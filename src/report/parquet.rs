@@ -143,6 +143,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             let gb = d.design.gain_bound;
             c.guaranteed_gain.push(gb.map(|g| g.gamma_sq));
             c.guarantee_anisotropy.push(gb.map(|g| g.anisotropy));
+            c.design_gain.push(gb.map(|g| g.design_gamma_sq));
             c.theorem1_gain.push(gb.map(|g| g.theorem1_sq));
             c.guarantee_applies.push(o.guarantee_applies);
             c.design_seconds.push(d.seconds);
@@ -190,6 +191,7 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("hinf_norm_sq", c.hinf_norm_sq),
         col("guaranteed_gain", c.guaranteed_gain),
         col("guarantee_anisotropy", c.guarantee_anisotropy),
+        col("design_gain", c.design_gain),
         col("theorem1_gain", c.theorem1_gain),
         col("guarantee_applies", c.guarantee_applies),
         col("design_seconds", c.design_seconds),
@@ -242,6 +244,7 @@ struct SummaryCols {
     h2_norm_sq: Vec<Option<f64>>,
     hinf_norm_sq: Vec<Option<f64>>,
     guaranteed_gain: Vec<Option<f64>>,
+    design_gain: Vec<Option<f64>>,
     theorem1_gain: Vec<Option<f64>>,
     guarantee_anisotropy: Vec<Option<f64>>,
     guarantee_applies: Vec<Option<bool>>,

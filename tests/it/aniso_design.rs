@@ -12,8 +12,9 @@
 
 use std::time::Instant;
 
-use filterbench::families::anisotropic::{self, Level, NORM_TOLERANCE, Structure};
+use filterbench::families::anisotropic::{self, Level, Structure};
 use filterbench::model::plant::Plant;
+use filterbench::numerics::accuracy;
 use filterbench::numerics::linalg::{Mat, Vector};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Uniform};
@@ -127,14 +128,21 @@ fn run_cases(indices: impl Iterator<Item = usize>) -> (usize, Vec<String>, Vec<(
         let c = case(i);
         let t = Instant::now();
         match anisotropic::synthesize_checked(&c.plant, Structure::Predictor, c.level) {
-            Ok(anisotropic::Checked { synthesis: syn, norm_sq, attempt, .. }) => {
+            Ok(anisotropic::Checked { synthesis: syn, norm_sq, norm_error, certified_sq, attempt, .. }) => {
                 by_attempt[attempt - 1] += 1;
-                // The check inside synthesize_checked, restated on its outputs.
+                // The check inside synthesize_checked, restated on its outputs, and the certified
+                // bound above the exact norm with nothing but the exact route's own rounding.
                 assert!(
-                    norm_sq.sqrt() <= syn.gamma_sq.sqrt() * (1.0 + NORM_TOLERANCE),
-                    "{}: exact norm² {norm_sq} > γ² {}",
+                    accuracy::ordered(norm_sq, syn.gamma_sq, norm_error + syn.objective_error),
+                    "{}: exact norm² {norm_sq} > γ² {} (±{:.2e})",
                     c.label,
-                    syn.gamma_sq
+                    syn.gamma_sq,
+                    syn.objective_error
+                );
+                assert!(
+                    accuracy::ordered(norm_sq, certified_sq, norm_error),
+                    "{}: {norm_sq} > {certified_sq}",
+                    c.label
                 );
                 solved += 1;
             }

@@ -6,6 +6,7 @@ use filterbench::analysis::hinf;
 use filterbench::config::{self, Experiment, Pattern};
 use filterbench::families::hinf_lambda::{lambda_min, predictor, recursion};
 use filterbench::families::kalman::kalman;
+use filterbench::numerics::accuracy;
 use filterbench::numerics::linalg::{Mat, Vector};
 use filterbench::pipeline;
 
@@ -129,8 +130,9 @@ fn no_trial_violates_the_guarantee() {
     }
 }
 
-/// The two independent computations of the generalized H∞ norm² agree to 1e-6 relative: λmax of
-/// the stacked operator (faer) and the SDP (4.7) (clarabel), on the experiment's filters and on
+/// The two independent computations of the generalized H∞ norm² agree within their stated
+/// accuracies (the eigenvalue's rounding bound, clarabel's objective error): λmax of the stacked
+/// operator (faer) and the SDP (4.7) (clarabel), on the experiment's filters and on
 /// random plants (noise split (5.5), random gains of the H∞-λ family).
 #[test]
 fn operator_and_sdp_norms_agree() {
@@ -145,9 +147,9 @@ fn operator_and_sdp_norms_agree() {
         cases.push((e, r));
     }
     for (e, r) in &cases {
-        let (a, _) = hinf::norm(&e.plant, r, &e.nominal, &s).unwrap();
-        let (b, it, secs) = hinf::norm_sdp(&e.plant, r, &e.nominal, &s).unwrap();
-        assert!((a - b).abs() <= 1e-6 * a, "λmax {a} vs SDP {b}");
+        let (a, a_error, _) = hinf::norm_with_error(&e.plant, r, &e.nominal, &s).unwrap();
+        let (b, b_error, it, secs) = hinf::norm_sdp(&e.plant, r, &e.nominal, &s).unwrap();
+        assert!(accuracy::agree(a, b, a_error + b_error), "λmax {a} (±{a_error:.1e}) vs SDP {b} (±{b_error:.1e})");
         eprintln!("norm² λmax {a:.9} SDP {b:.9} ({it} iterations, {secs:.3} s, N = {})", e.plant.horizon);
     }
 }

@@ -33,6 +33,7 @@ use crate::error::{Error, Result};
 use crate::filter::design::{Design, DesignInput};
 use crate::filter::realization::Realization;
 use crate::model::plant::{Measurement, Pattern, Plant};
+use crate::numerics::accuracy;
 use crate::numerics::linalg::Mat;
 use crate::numerics::solve::conic::{Failure, Tuning};
 
@@ -89,6 +90,9 @@ impl super::Family for Anisotropic {
         diagnostics.insert("theorem1_seconds".into(), checked.theorem1.seconds.into());
         diagnostics.insert("clarabel_attempts".into(), checked.attempt.into());
         diagnostics.insert("gamma_sq".into(), syn.gamma_sq.into());
+        diagnostics.insert("gamma_sq_objective_error".into(), syn.objective_error.into());
+        diagnostics.insert("theorem1_error".into(), checked.theorem1.error.into());
+        diagnostics.insert("certified_gamma_sq".into(), checked.certified_sq.into());
         diagnostics.insert("eta".into(), syn.eta.into());
         diagnostics.insert(
             "design_anisotropy".into(),
@@ -104,7 +108,8 @@ impl super::Family for Anisotropic {
         diagnostics.insert("clarabel_seconds".into(), syn.solve_seconds.into());
         Ok(Design {
             gain_bound: Some(crate::filter::design::GainBound {
-                gamma_sq: syn.gamma_sq,
+                gamma_sq: checked.certified_sq,
+                design_gamma_sq: syn.gamma_sq,
                 anisotropy: level.value(),
                 theorem1_sq: checked.theorem1.gamma_sq,
             }),
@@ -169,20 +174,26 @@ fn failure_message(f: &Failure) -> String {
     }
 }
 
-/// A design that passed its checks: the synthesis, its exact norm², what Theorem 1 certifies for
-/// it with a full P, and the attempt that passed.
+/// A design that passed its checks: the synthesis, its exact norm² and that figure's rounding
+/// error, what Theorem 1 certifies for it with a full P, the certified bound, and the attempt that
+/// passed.
 pub struct Checked {
     pub synthesis: Synthesis,
     pub norm_sq: f64,
+    pub norm_error: f64,
     pub theorem1: theorem1::Analysis,
+    /// The guaranteed γ²: the solver's γ² where it is above Theorem 1's certified bound for the
+    /// returned filter (then it is one too), the certified bound where the solver's value is below
+    /// it (an interior-point value can sit under the optimum it approximates).
+    pub certified_sq: f64,
     pub attempt: usize,
 }
 
 /// Designs `structure` at `level` and checks the design three ways: its exact a-anisotropic norm
 /// (from Λ, or Lemma 1 when lw is large; not from the solver) must not exceed γ, and Theorem 1's
 /// analysis LMIs (4.25)–(4.29) with the filter fixed and a full P(k) must certify a γ_T1 with
-/// exact ≤ γ_T1 ≤ γ (the design's own P is one of their solutions), each to [`NORM_TOLERANCE`]
-/// relative. The first attempt uses clarabel's default settings (shipped designs are unchanged);
+/// exact ≤ γ_T1 ≤ γ (the design's own P is one of their solutions), each within the errors its two
+/// routes state (the rounding bounds of the exact routes, clarabel's `objective_error` for γ). The first attempt uses clarabel's default settings (shipped designs are unchanged);
 /// after a numerical failure or a design that fails a check, retries with [`Tuning::robust`], then
 /// both settings in balanced state coordinates ([`synthesize_balanced`]).
 pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> std::result::Result<Checked, String> {
@@ -208,9 +219,9 @@ pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> 
             }
         };
         let real = realization(plant, &syn);
-        let norm_sq = exact_norm_sq(plant, &real, level).map_err(|e| e.to_string())?;
+        let (norm_sq, norm_error) = exact_norm_sq_with_error(plant, &real, level).map_err(|e| e.to_string())?;
         let solver = if syn.almost { "AlmostSolved" } else { "Solved" };
-        if norm_sq.sqrt() > syn.gamma_sq.sqrt() * (1.0 + NORM_TOLERANCE) {
+        if !accuracy::ordered(norm_sq, syn.gamma_sq, norm_error + syn.objective_error) {
             last = format!(
                 "the SDP returned a design whose exact {describe} norm {:.9e} exceeds its bound γ = {:.9e} by {:.1e} \
                  relative (clarabel {solver}): a numerical failure, not infeasibility; rescale the plant's matrices \
@@ -231,9 +242,13 @@ pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> 
                 continue;
             }
         };
-        let within = |lo: f64, hi: f64| lo.sqrt() <= hi.sqrt() * (1.0 + NORM_TOLERANCE);
-        if within(norm_sq, t1.gamma_sq) && within(t1.gamma_sq, syn.gamma_sq) {
-            return Ok(Checked { synthesis: syn, norm_sq, theorem1: t1, attempt: attempt + 1 });
+        // Two exact routes, then an exact route against the solver's objective: each pair within
+        // the errors its routes state (numerics::accuracy).
+        if accuracy::ordered(norm_sq, t1.gamma_sq, norm_error + t1.error)
+            && accuracy::ordered(t1.gamma_sq, syn.gamma_sq, t1.error + syn.objective_error)
+        {
+            let certified_sq = syn.gamma_sq.max(t1.certified());
+            return Ok(Checked { synthesis: syn, norm_sq, norm_error, theorem1: t1, certified_sq, attempt: attempt + 1 });
         }
         last = format!(
             "the three routes to the design's {describe} norm disagree: exact {:.9e}, Theorem 1 with the filter fixed \
@@ -299,12 +314,23 @@ fn synthesize_balanced(
     Ok(syn)
 }
 
-/// A design's exact norm may exceed γ by this much (relative): solver tolerance, not a broken bound.
-pub const NORM_TOLERANCE: f64 = 1e-6;
-
 /// Above this many inputs lw = mw(N + 1) the exact norm comes from Lemma 1 (O(N n³)) instead of the
 /// eigenvalues of the lw × lw matrix Λ (the two agree to 1e-13: tests/it/lemma1.rs).
 pub const DENSE_NORM_MAX_INPUTS: usize = 1500;
+
+/// [`exact_norm_sq`] and a bound on its rounding error: from the eigenvalues of Λ, each computed to
+/// [`accuracy::eigenvalue_error`] (|||F|||²_a is a weighted mean of them, so it moves by no more to
+/// first order); from Lemma 1's recursion, [`accuracy::recursion_error`].
+pub fn exact_norm_sq_with_error(plant: &Plant, real: &Realization, level: Level) -> Result<(f64, f64)> {
+    let value = exact_norm_sq(plant, real, level)?;
+    let lw = plant.nw() * plant.steps();
+    let error = if lw > DENSE_NORM_MAX_INPUTS {
+        accuracy::recursion_error(plant.steps(), plant.nx() + real.ns(), value)
+    } else {
+        accuracy::eigenvalue_error(&crate::analysis::anisotropy::error_gram(plant, real)?)
+    };
+    Ok((value, error))
+}
 
 /// |||F|||²_a of a realization, a = ∞ giving ‖F‖∞² (seed 003 §2): the eigenvalues of Λ, or Lemma 1
 /// above [`DENSE_NORM_MAX_INPUTS`].

@@ -82,9 +82,13 @@ pub struct Synthesis {
     pub h: Vec<Mat>,
     pub f: Vec<Mat>,
     pub g: Vec<Mat>,
-    /// The guaranteed bound γ² and η = 1/q.
+    /// The solver's γ² (the program's objective) and η = 1/q. Not itself a proven bound: an
+    /// interior-point value within `objective_error` of the optimum (the certified bound is
+    /// `anisotropic::Checked::certified_sq`).
     pub gamma_sq: f64,
     pub eta: f64,
+    /// clarabel's first-order bound on |γ² − the program's optimum| (`Solution::objective_error`).
+    pub objective_error: f64,
     pub variables: usize,
     pub rows: usize,
     pub cones: std::collections::BTreeMap<String, usize>,
@@ -246,6 +250,7 @@ pub fn synthesize_tuned(
         g: gs,
         gamma_sq: x[cond.gsq],
         eta: x[cond.eta],
+        objective_error: sol.objective_error,
         variables: vars.count,
         rows,
         cones,

@@ -32,10 +32,17 @@ pub fn single_threaded_blas() {
 #[derive(Clone, Debug)]
 pub struct Solution {
     pub x: Vec<f64>,
+    /// The dual point, row by row as the constraints were added (certified bounds use it).
+    pub z: Vec<f64>,
     pub iterations: u32,
     pub seconds: f64,
     /// clarabel stopped at its reduced tolerances (AlmostSolved): the caller checks the result.
     pub almost: bool,
+    /// A first-order bound on |costᵀx − the program's optimum|: the duality gap |cᵀx − dual
+    /// objective| plus |zᵀr_p| and |xᵀr_d|, the primal and dual residuals of the returned point
+    /// weighted by the other side's variables (`numerics::accuracy`'s module docs). What a comparison with another route allows the
+    /// solver.
+    pub objective_error: f64,
 }
 
 /// Why a program was not solved: clarabel's status, and whether it is a certificate that the
@@ -92,6 +99,10 @@ impl Tuning {
         }
     }
 }
+
+/// clarabel's default reduced relative gap tolerance (`reduced_tol_gap_rel`), what its
+/// AlmostSolved status promises of the objective.
+pub const ALMOST_GAP_REL: f64 = 5e-5;
 
 #[derive(Default, Clone)]
 pub struct Conic {
@@ -161,6 +172,22 @@ impl Conic {
         (self.b.len(), cones)
     }
 
+    /// The first-order effects of the solver's residuals on its objective: zᵀr_p with the primal
+    /// residual r_p = Ax + s − b (the slack is s = b − Ax in the rows as written), and xᵀr_d with
+    /// the dual residual r_d = Aᵀz + cost (clarabel's stationarity Aᵀz + q = 0 with P = 0): the
+    /// point is optimal for a program moved by r_p in b and by r_d in the cost, whose optimum
+    /// differs from this one's by about zᵀr_p and xᵀr_d.
+    fn residual_dots(&self, cost: &[f64], x: &[f64], s: &[f64], z: &[f64]) -> [f64; 2] {
+        let mut rp: Vec<f64> = s.iter().zip(&self.b).map(|(s, b)| s - b).collect();
+        let mut rd: Vec<f64> = cost.to_vec();
+        for ((&i, &j), &v) in self.rows.iter().zip(&self.cols).zip(&self.vals) {
+            rp[i] += v * x[j];
+            rd[j] += v * z[i];
+        }
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
+        [dot(&rp, z), dot(&rd, x)]
+    }
+
     /// Minimizes costᵀx; anything but an (almost) solved status is an error naming it.
     pub fn minimize(self, cost: &[f64]) -> Result<Solution, String> {
         self.minimize_tuned(cost, &Tuning::default()).map_err(|f| f.to_string())
@@ -194,9 +221,21 @@ impl Conic {
         match sol.status {
             SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(Solution {
                 x: sol.x.clone(),
+                z: sol.z.clone(),
                 iterations: sol.iterations,
                 seconds: sol.solve_time,
                 almost: sol.status == SolverStatus::AlmostSolved,
+                objective_error: {
+                    let first_order = (sol.obj_val - sol.obj_val_dual).abs()
+                        + self.residual_dots(cost, &sol.x, &sol.s, &sol.z).iter().map(|v| v.abs()).sum::<f64>();
+                    // AlmostSolved: clarabel vouches only for its reduced gap tolerance, and the
+                    // first-order estimate is not to be trusted alone near such a point.
+                    if sol.status == SolverStatus::AlmostSolved {
+                        first_order.max(ALMOST_GAP_REL * sol.obj_val.abs().max(1.0))
+                    } else {
+                        first_order
+                    }
+                },
             }),
             s => Err(Failure {
                 status: format!("{s:?}"),

@@ -83,20 +83,21 @@ pub fn summary(exp: &Experiment, out: &RunOutcome) -> String {
 fn anisotropic_norms(exp: &Experiment, out: &RunOutcome, a: f64) -> String {
     let mut s = format!(
         "### norms at anisotropy a = {a}\n\n| filter | structure | \\|\\|\\|F\\|\\|\\|²_a | ‖F‖₂²/lw (a = 0) | ‖F‖∞² (a → ∞) \
-         | γ² | Theorem 1, full P | for a ≤ |\n|---|---|---:|---:|---:|---:|---:|---:|\n"
+         | γ² guaranteed | γ² of the solver | Theorem 1, full P | for a ≤ |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
         let Some(n) = d.anisotropic else { continue };
         let gb = d.design.gain_bound;
         let structure = d.design.diagnostics.get("structure").and_then(|v| v.as_str()).unwrap_or("");
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             cell(&spec.name),
             cell(structure),
             num(n.norm_sq),
             num(n.h2_sq),
             num(n.hinf_sq),
             gb.map_or(String::new(), |g| num(g.gamma_sq)),
+            gb.map_or(String::new(), |g| num(g.design_gamma_sq)),
             gb.map_or(String::new(), |g| num(g.theorem1_sq)),
             gb.map_or(String::new(), |g| num(g.anisotropy)),
         ));
