@@ -95,6 +95,7 @@ const SUMMARY_COLUMNS: [&str; 45] = [
     "h2_norm_sq",
     "hinf_norm_sq",
     "guaranteed_gain",
+    "design_gain",
     "guarantee_anisotropy",
     "theorem1_gain",
     "guarantee_applies",
