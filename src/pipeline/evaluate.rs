@@ -94,8 +94,9 @@ pub fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, 
 
 /// Evaluates scenario `index` from its `setup`: exact first (a filter whose error double
 /// precision cannot resolve is refused before its Monte Carlo runs), then the Monte Carlo and
-/// sample trajectories, the exact NEES (seed 001 §3) and the input's power and anisotropy. The
-/// Monte Carlo is run here over every block, or `given` (a merge's shards, every block's nodes).
+/// sample trajectories with the noise-free output they scatter around, the exact NEES (seed 001
+/// §3) and the input's power and anisotropy. The Monte Carlo is run here over every block, or
+/// `given` (a merge's shards, every block's nodes).
 pub fn evaluate(
     engine: &Engine,
     setup: Setup,
@@ -166,6 +167,7 @@ pub fn evaluate(
         mc,
         mc_seconds,
         trajectories,
+        noise_free: crate::analysis::noise_free::noise_free_output(&exp.plant),
         per_trial: part.per_trial,
         filters,
     })

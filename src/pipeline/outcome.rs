@@ -36,6 +36,9 @@ pub struct ScenarioOutcome {
     pub mc: McStats,
     pub mc_seconds: f64,
     pub trajectories: Vec<Trajectory>,
+    /// The noise-free z̄[k] the sample trials scatter around (seed 003 Figs. 3–4, columns are
+    /// steps: [`crate::analysis::noise_free::noise_free_output`]); None without a known input.
+    pub noise_free: Option<Mat>,
     /// With `--per-trial`: per filter, the summed error J of every trial in trial order (else empty).
     pub per_trial: Vec<Vec<f64>>,
     /// Per filter, in the file's order: the figures derived from its exact error and Monte Carlo.

@@ -23,6 +23,7 @@ mod markov_jump;
 mod minimax;
 mod multiplicative;
 mod nees;
+mod noise_free;
 mod output_safety;
 mod promises;
 mod recording;

@@ -8,6 +8,7 @@ use std::io::BufReader;
 use filterbench::config;
 use filterbench::report::recording::{self, style};
 use rerun::external::re_log_encoding::DecoderApp;
+use rerun::external::re_sdk_types::blueprint::components::QueryExpression;
 use rerun::log::{Chunk, LogMsg};
 use rerun::{ComponentIdentifier, StoreKind};
 
@@ -41,6 +42,11 @@ struct Read {
     truth: BTreeSet<[u8; 3]>,
     /// `design/<filter>/line_search_<s>` entities (seed 000 Fig. 1), without the variant.
     line_searches: BTreeSet<String>,
+    /// `trajectories/…/z<j>/noise_free` entities (seed 003 Figs. 3–4), with the variant, and their colours.
+    noise_free: BTreeSet<String>,
+    noise_free_colours: BTreeSet<[u8; 3]>,
+    /// The blueprint's view contents that name a noise-free entity.
+    noise_free_shown: usize,
 }
 
 fn colour_components() -> Vec<ComponentIdentifier> {
@@ -62,6 +68,9 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
         colours: BTreeMap::new(),
         truth: BTreeSet::new(),
         line_searches: BTreeSet::new(),
+        noise_free: BTreeSet::new(),
+        noise_free_colours: BTreeSet::new(),
+        noise_free_shown: 0,
     };
     let mut entities = BTreeSet::new();
     for msg in DecoderApp::decode_lazy(file) {
@@ -75,6 +84,11 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
                 if store.kind() == StoreKind::Blueprint {
                     r.blueprint_chunks += 1;
                     r.viewport |= entity == "/viewport";
+                    let id = rerun::external::re_sdk_types::blueprint::archetypes::ViewContents::descriptor_query()
+                        .component;
+                    for row in chunk.iter_component::<QueryExpression>(id) {
+                        r.noise_free_shown += row.iter().filter(|q| q.0.as_str().ends_with("/noise_free")).count();
+                    }
                     continue;
                 }
                 entities.insert(entity);
@@ -82,6 +96,9 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
                 let mut parts: Vec<&str> = parts.iter().map(String::as_str).collect();
                 if parts.first().is_some_and(|p| variants.iter().any(|v| v == p) && !KINDS.contains(p)) {
                     parts.remove(0);
+                }
+                if parts.first() == Some(&"trajectories") && parts.last() == Some(&"noise_free") {
+                    r.noise_free.insert(chunk.entity_path().to_string());
                 }
                 if let ["design", f, leaf] = parts.as_slice()
                     && leaf.starts_with("line_search_")
@@ -98,6 +115,9 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
                                 Owner::Other => {
                                     if parts.last() == Some(&"truth") {
                                         r.truth.insert([red, g, b]);
+                                    }
+                                    if parts.last() == Some(&"noise_free") {
+                                        r.noise_free_colours.insert([red, g, b]);
                                     }
                                     continue;
                                 }
@@ -150,6 +170,32 @@ fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_fil
             let [red, g, b, _] = style::DROPOUT;
             assert_ne!(c, [red, g, b], "{name}: {f} has the dropout markers' colour");
             assert!(!r.truth.contains(&c), "{name}: {f} has the truth's colour");
+            assert!(!r.noise_free_colours.contains(&c), "{name}: {f} has the noise-free z's colour");
+        }
+        // The noise-free z (seed 003 Figs. 3–4): one entity per sample trial and component where the
+        // plant has a known input, in every scenario's sample-trial view; none where it has none.
+        let sampled: usize = exps
+            .iter()
+            .zip(&outs)
+            .map(|(e, o)| o.scenarios.iter().map(|s| s.trajectories.len()).sum::<usize>() * e.plant.nz())
+            .sum();
+        if exps[0].plant.known_input.is_empty() {
+            assert!(r.noise_free.is_empty(), "{name}: no known input, no noise-free z: {:?}", r.noise_free);
+            assert_eq!(r.noise_free_shown, 0, "{name}: no view shows a noise-free z");
+        } else {
+            assert_eq!(r.noise_free.len(), sampled, "{name}: a noise-free z per sample trial and component");
+            assert_eq!(r.noise_free_colours.len(), 1, "{name}: one colour for the noise-free z");
+            let shown: usize = exps
+                .iter()
+                .zip(&outs)
+                .map(|(e, o)| o.scenarios.iter().filter(|s| !s.trajectories.is_empty()).count() * e.plant.nz().min(2))
+                .sum();
+            assert_eq!(r.noise_free_shown, shown, "{name}: each sample-trial view of z shows it");
+        }
+        match name.as_str() {
+            "aniso_dropout" => assert!(!r.noise_free.is_empty(), "aniso_dropout draws the noise-free z"),
+            "aniso_multiplicative" => assert!(r.noise_free.is_empty(), "aniso_multiplicative has no known input"),
+            _ => {}
         }
         assert_eq!(r.colours.len(), filters.len(), "{name}: every filter is drawn");
         // Every kept line search of Algorithm 1 is drawn (seed 000 Fig. 1), and nothing else.

@@ -5,7 +5,7 @@
 //!   initial transient does not squash the curves; the promises (guaranteed bounds or claims)
 //!   against the exact error; the exact summed error per filter as bars beside the scenario's table;
 //! - bottom row: the first sample trial's truth and estimates of z₁ (and z₂), with lost
-//!   measurements marked, and the matching errors; for a string, its profile along ξ and the error
+//!   measurements marked and, with a known input, the noise-free z, and the matching errors; for a string, its profile along ξ and the error
 //!   surface over (basis, n, α) instead.
 //!
 //! Experiments with iterative designs get a `design` tab. Large experiments show at most
@@ -134,12 +134,16 @@ fn trajectory_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<O
     let Some(tr) = sc.trajectories.first() else { return Ok(None) };
     let exp = run.exp;
     let trial = format!("trial_{}", tr.trial);
+    let nf_title = if sc.noise_free.is_some() { ", noise-free z (grey)" } else { "" };
     let mut views = Vec::new();
     for j in 0..tr.z.nrows().min(COMPONENTS_SHOWN) {
         let (z, e) = (format!("z{}", j + 1), format!("e{}", j + 1));
         let at = |comp: &str, leaf: &str| run.at(&["trajectories", &sc.name, &trial, comp, leaf]);
         // The estimates of the filters not shown are in the same entities, hidden series.
         let mut zc = vec![plus(&at(&z, "truth")), plus(&at(&z, "estimates")), plus(&at(&z, "dropouts"))];
+        if sc.noise_free.is_some() {
+            zc.push(plus(&at(&z, "noise_free")));
+        }
         let ec = vec![plus(&at(&e, "errors")), plus(&at(&e, "dropouts"))];
         if exp.plant.arrival().is_none() && exp.plant.switches() {
             zc.push(plus(&run.at(&["trajectories", &sc.name, &trial, "mode"])));
@@ -147,7 +151,7 @@ fn trajectory_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<O
         let of = if tr.z.nrows() > COMPONENTS_SHOWN { format!(" of {}", tr.z.nrows()) } else { String::new() };
         views.push(l.view(
             ViewKind::TimeSeries { from_step: None, legend: Corner2D::RightTop },
-            &format!("trial {}: {z}{of}, truth and estimates", tr.trial),
+            &format!("trial {}: {z}{of}, truth{} and estimates", tr.trial, nf_title),
             &zc,
         )?);
         views.push(l.view(

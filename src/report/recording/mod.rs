@@ -7,9 +7,10 @@
 //!   from Monte Carlo with its 95 % band, and the exact value;
 //! - `promise/<scenario>/<filter>/{guaranteed | claimed}`: the family's per-step bound, or, for a
 //!   filter whose only promise is its error at its own design covariance, that claim;
-//! - `trajectories/<scenario>/trial_<t>/z<j>/{truth, <filter>, dropouts}` and `…/e<j>/{<filter>,
-//!   dropouts}`: sample trials (seed 003's Figs. 1–12), the lost measurements as markers; `…/mode`
-//!   the Markov mode;
+//! - `trajectories/<scenario>/trial_<t>/z<j>/{truth, noise_free, estimates, dropouts}` and
+//!   `…/e<j>/{errors, dropouts}`: sample trials (seed 003's Figs. 1–12), the noise-free z (only
+//!   with a known input), one series per filter in `estimates` and `errors`, the lost measurements
+//!   as markers; `…/mode` the Markov mode;
 //! - `compare/<scenario>/<filter>`: the exact summed error as one bar per filter;
 //! - `tables/<scenario>` and `summary`: the summed figures as Markdown tables;
 //! - `design/<filter>/{objective, gap}`: iterative designs (minimax: I(K(s)) and δ(s) per
@@ -21,7 +22,8 @@
 //!   string/<filter>, string/truth}`: the exact error over (basis, n, α) and the first sample
 //!   trial's u along ξ at every step.
 //!
-//! The recording is presentation only: every number in it is also in the Parquet tables.
+//! The recording is presentation only: every number in it is also in the Parquet tables, except
+//! the sample trials (`trajectories/…`, a string's `galerkin/…/string/…`), which only it holds.
 
 mod blueprint;
 mod galerkin;
@@ -193,9 +195,10 @@ fn mse(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
     Ok(())
 }
 
-/// Sample trials: per component of z the truth, every filter's estimate (one entity, one series
-/// per filter in the file's order) and error, with the lost measurements (mode 0 of a dropout
-/// plant) marked on the truth and on the zero line of the errors. Filters beyond the scenario's
+/// Sample trials: per component of z the truth, the noise-free z where the plant has a known
+/// input (seed 003 Figs. 3–4), every filter's estimate (one entity, one series per filter in the
+/// file's order) and error, with the lost measurements (mode 0 of a dropout plant) marked on the
+/// truth and on the zero line of the errors. Filters beyond the scenario's
 /// [`shown`] ones start hidden.
 fn trajectories(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
     use rerun::components::MarkerShape;
@@ -224,6 +227,10 @@ fn trajectories(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
             let at = |comp: &str, leaf: &str| run.at(&["trajectories", &sc.name, &trial, comp, leaf]);
             let truth = series_style(style::TRUTH, style::TRUTH_WIDTH, "truth");
             w.series(at(&z, "truth"), &truth, &steps, tr.z.row(j).iter().copied().collect(), 1)?;
+            if let Some(nf) = &sc.noise_free {
+                let s = series_style(style::NOISE_FREE, style::NOISE_FREE_WIDTH, "noise-free z");
+                w.series(at(&z, "noise_free"), &s, &steps, nf.row(j).iter().copied().collect(), 1)?;
+            }
             w.series(at(&z, "estimates"), &styled(""), &steps, interleave(n, nf, |k, f| tr.zhat[f][(j, k)]), nf)?;
             let err = interleave(n, nf, |k, f| tr.z[(j, k)] - tr.zhat[f][(j, k)]);
             w.series(at(&e, "errors"), &styled(" · error"), &steps, err, nf)?;

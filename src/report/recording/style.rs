@@ -23,6 +23,9 @@ const PALETTE: [[u8; 3]; 9] = [
 pub const TRUTH: Rgba = [0xe8, 0xe8, 0xe8, 0xff];
 /// The Markov mode of a sample trial: grey, below the truth's white.
 pub const MODE: Rgba = [0x8c, 0x8c, 0x8c, 0xff];
+/// The noise-free z the truth scatters around (seed 003 Figs. 3–4): a grey between the mode's
+/// and the truth's; its curve is smooth where the truth is jagged, which tells the two apart.
+pub const NOISE_FREE: Rgba = [0xb4, 0xb4, 0xb4, 0xff];
 /// Lost measurements: a saturated magenta no filter has, drawn as crosses.
 pub const DROPOUT: Rgba = [0xff, 0x1f, 0xd2, 0xff];
 
@@ -65,3 +68,4 @@ pub const BAND_WIDTH: f32 = 0.75;
 pub const EXACT_WIDTH: f32 = 1.0;
 pub const ESTIMATE_WIDTH: f32 = 1.5;
 pub const TRUTH_WIDTH: f32 = 2.5;
+pub const NOISE_FREE_WIDTH: f32 = 2.0;
