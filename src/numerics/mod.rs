@@ -3,5 +3,6 @@
 
 pub mod linalg;
 pub mod linop;
+pub mod pd;
 pub mod riccati;
 pub mod solve;
