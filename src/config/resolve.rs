@@ -86,6 +86,12 @@ pub(super) fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> R
         raw.nominal.insert(n.to_string(), rows(m));
     }
     let mut exp = resolve(name, raw, text)?;
+    // Time-varying intensities enter through B[k], D[k] (model::string): carried over as they are,
+    // not through `B_steps`/`D_steps` rows (a full matrix per step for a large truth).
+    if plant.b.varies() || plant.d.varies() {
+        exp.plant.b = plant.b;
+        exp.plant.d = plant.d;
+    }
     exp.string = Some(model);
     Ok(exp)
 }

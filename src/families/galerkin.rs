@@ -9,7 +9,16 @@
 //!
 //! **Regularization.** The measurement intensity W_m is replaced by S_α = W_m + α I (Tikhonov,
 //! seed 004 eq (6)); α = 0 with a singular W_m leaves the Kalman–Bucy gain P Cᵀ S⁻¹ undefined and is
-//! refused.
+//! refused. For α > 0 the innovation covariance C P Cᵀ + S_α/Δ is positive definite and is solved
+//! by Cholesky ([`crate::numerics::riccati::innovation_pd`]), never by a pseudo-inverse that
+//! would drop its small eigenvalues; a step whose solve has a worst-case relative error (condition
+//! number × a multiple of ε, [`crate::numerics::pd`]) above [`crate::numerics::pd::MAX_SOLVE_ERROR`]
+//! is refused with its condition number, under the key `filters.NAME.alpha`.
+//!
+//! **Time-varying intensities** (seed 004's V_(n)(τ), W_(m)(τ)): over step k the forcing covariance
+//! is s_k times the constant-intensity one and S_α becomes r_k W_m + α I, s_k and r_k the string's
+//! step means ([`StringModel::forcing_scale`], [`StringModel::noise_scale`]); the filter is the
+//! Kalman filter of that time-varying sampled model.
 //!
 //! **Discretization.** The projected system is discretized exactly over Δ (Van Loan: one matrix
 //! exponential gives Φ and the integrated noise covariance), the measurement noise of intensity
@@ -22,13 +31,15 @@
 
 use serde::Deserialize;
 
+use crate::error::{Error, Result};
 use crate::filter::design::{Design, DesignInput, Figures, GalerkinPoint};
 use crate::filter::realization::Realization;
-use crate::error::{Error, Result};
-use crate::numerics::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
-use crate::model::plant::{Covariances, Plant};
 use crate::model::plant::Pattern;
+use crate::model::plant::{Covariances, Plant};
 use crate::model::string::{Observation, StringModel};
+use crate::numerics::linalg::{Mat, Vector, min_eigenvalue, symmetrize};
+use crate::numerics::pd::MAX_SOLVE_ERROR;
+use crate::numerics::riccati::IllConditioned;
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Debug)]
 #[serde(rename_all = "snake_case")]
@@ -68,15 +79,20 @@ impl super::Family for Galerkin {
             return Err(Error::invalid(key("n"), "the number of basis functions must be at least 1"));
         }
         if !(p.alpha >= 0.0 && p.alpha.is_finite()) {
-            return Err(Error::invalid(key("alpha"), format!("the regularization parameter must be ≥ 0, got {}", p.alpha)));
+            return Err(Error::invalid(
+                key("alpha"),
+                format!("the regularization parameter must be ≥ 0, got {}", p.alpha),
+            ));
         }
-        if p.alpha == 0.0 && min_eigenvalue(&model.w_m) <= 1e-12 * model.w_m.amax().max(1e-300) {
+        let vanishes = (0..input.plant.steps()).any(|k| model.noise_scale(k) == 0.0);
+        if p.alpha == 0.0 && (vanishes || min_eigenvalue(&model.w_m) <= 1e-12 * model.w_m.amax().max(1e-300)) {
             return Err(Error::invalid(
                 key("alpha"),
                 "W_m is singular, so α = 0 leaves the Kalman–Bucy gain P Cᵀ W_m⁻¹ undefined (seed 004 (5) is ill-posed): use α > 0",
             ));
         }
-        let realization = realization(model, input.plant.horizon, p.basis, p.n, p.alpha);
+        let realization = realization(model, input.plant.horizon, p.basis, p.n, p.alpha)
+            .map_err(|(k, why)| Error::invalid(key("alpha"), ill_conditioned(k, why, p.alpha)))?;
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("dt".into(), model.dt.into());
         let basis = format!("{:?}", p.basis).to_lowercase();
@@ -85,10 +101,36 @@ impl super::Family for Galerkin {
     }
 }
 
-/// The Galerkin filter as a realization: the Kalman filter of the [`projected`] model.
-pub fn realization(model: &StringModel, horizon: usize, basis: Basis, n: usize, alpha: f64) -> Realization {
+/// The refusal of a step whose positive definite solve would not be accurate (module docs).
+pub fn ill_conditioned(step: usize, why: IllConditioned, alpha: f64) -> String {
+    if why.error.is_finite() {
+        format!(
+            "at step {step} the innovation covariance C P Cᵀ + (W_m + αI)/Δ has condition number {:.3e}, so its \
+             Cholesky solve may be off by {:.1e} relative (at most {MAX_SOLVE_ERROR:e} is accepted): α = {alpha:e} is \
+             too small to be solved accurately in double precision, use a larger α",
+            why.kappa, why.error
+        )
+    } else {
+        format!(
+            "at step {step} the innovation covariance C P Cᵀ + (W_m + αI)/Δ is not positive definite in double \
+             precision (condition number {:.3e}): α = {alpha:e} is too small, use a larger α",
+            why.kappa
+        )
+    }
+}
+
+/// The Galerkin filter as a realization: the Kalman filter of the [`projected`] model, each step's
+/// innovation covariance solved by Cholesky (module docs); or the first step whose solve would not
+/// be accurate, with why.
+pub fn realization(
+    model: &StringModel,
+    horizon: usize,
+    basis: Basis,
+    n: usize,
+    alpha: f64,
+) -> std::result::Result<Realization, (usize, IllConditioned)> {
     let (fplant, fcov) = projected(model, horizon, basis, n, alpha);
-    let mut realization = crate::families::kalman::kalman(&fplant, &fcov, Pattern::Filtering);
+    let mut realization = crate::families::kalman::kalman_pd(&fplant, &fcov, Pattern::Filtering)?;
     // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
     // truth's r (2M): none at all.
     for g in realization.gains.iter_mut().flatten() {
@@ -97,11 +139,12 @@ pub fn realization(model: &StringModel, horizon: usize, basis: Basis, n: usize, 
     // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
     // stable, so the plant-coordinate recursion resolves its error).
     realization.tracks = None;
-    realization
+    Ok(realization)
 }
 
 /// The projected, regularized, sampled model as a plant (state (x, ẋ), noise blocks `process` and
-/// `measurement`) with its covariances.
+/// `measurement`) with its covariances: per step (`Covariances::varying`) when an intensity follows
+/// a time profile.
 pub fn projected(model: &StringModel, horizon: usize, basis: Basis, n: usize, alpha: f64) -> (Plant, Covariances) {
     let (mass, stiff, forcing, sens, out, to_coefficients) = match basis {
         Basis::Eigen => eigen(model, n),
@@ -140,8 +183,19 @@ pub fn projected(model: &StringModel, horizon: usize, basis: Basis, n: usize, al
     c.view_mut((0, 0), (m, n)).copy_from(&sens);
     let mut cz = Mat::zeros(out.nrows(), 2 * n);
     cz.view_mut((0, 0), (out.nrows(), n)).copy_from(&out);
-    let s_alpha = &model.w_m + alpha * Mat::identity(m, m);
-    crate::model::string::sampled(horizon, phi, c, cz, qd, s_alpha / dt, p0)
+    let s_alpha = |scale: f64| {
+        let w = if model.noise.varies() { scale * &model.w_m } else { model.w_m.clone() };
+        (w + alpha * Mat::identity(m, m)) / dt
+    };
+    let (fplant, mut fcov) = crate::model::string::sampled(horizon, phi, c, cz, qd.clone(), s_alpha(1.0), p0);
+    let steps = fplant.steps();
+    if model.forcing.varies() {
+        fcov.varying.push((1, (0..steps).map(|k| model.forcing_scale(k) * &qd).collect()));
+    }
+    if model.noise.varies() {
+        fcov.varying.push((2, (0..steps).map(|k| s_alpha(model.noise_scale(k))).collect()));
+    }
+    (fplant, fcov)
 }
 
 /// Mass, stiffness, forcing covariance V_φ, sensor matrix (m × n), output matrix (p × n), and the

@@ -14,14 +14,14 @@
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput};
 use crate::error::{Error, Result};
-use crate::numerics::linalg::{symmetrize, weighted_sum};
-use crate::numerics::riccati;
-use crate::model::plant::{Steps, Covariances, Plant};
+use crate::filter::design::{Design, DesignInput};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
 use crate::model::plant::Pattern;
+use crate::model::plant::{Covariances, Plant, Steps};
+use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
+use crate::numerics::riccati;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -45,14 +45,17 @@ enum PlantChoice {
 
 /// The plant with every switching matrix replaced by its stationary average, modes removed.
 fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
-    let m = plant
-        .modes()
-        .ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
+    let m = plant.modes().ok_or_else(|| Error::design(name, "`plant = \"mode_averaged\"` needs a plant with modes"))?;
     let pi = m.stationary().ok_or_else(|| Error::design(name, "the chain is not ergodic: no stationary average"))?;
     // Averaged step by step when some mode's matrix varies.
     let avg = |ms: &[Steps]| {
-        let at = |k: usize| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms.iter().map(|s| s.at(k))));
-        if ms.iter().any(Steps::varies) { Steps::per_step((0..plant.steps()).map(at).collect()) } else { Steps::constant(at(0)) }
+        let at =
+            |k: usize| weighted_sum(ms[0].nrows(), ms[0].ncols(), pi.iter().copied().zip(ms.iter().map(|s| s.at(k))));
+        if ms.iter().any(Steps::varies) {
+            Steps::per_step((0..plant.steps()).map(at).collect())
+        } else {
+            Steps::constant(at(0))
+        }
     };
     let mut out = plant.clone();
     out.a = avg(&m.a);
@@ -109,6 +112,37 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
 
 /// The Kalman filter of `plant` for the covariances `cov`, as a realization (module docs).
 pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization {
+    let step = |a: &Mat, c: &Mat, p: &Mat, dwd: &Mat, bwd: &Mat, _: &Mat| {
+        Ok::<_, std::convert::Infallible>(riccati::innovation(a, c, p, dwd, bwd))
+    };
+    match recursion(plant, cov, pattern, step) {
+        Ok(realization) => realization,
+        Err((_, never)) => match never {},
+    }
+}
+
+/// As [`kalman`] for a model whose innovation covariance S is positive definite at every step by
+/// construction (seed 004's regularized S_α): S⁻¹ by a Cholesky solve that drops no direction
+/// ([`riccati::innovation_pd`]), or the first step k whose solve would not be accurate, with why.
+pub fn kalman_pd(
+    plant: &Plant,
+    cov: &Covariances,
+    pattern: Pattern,
+) -> std::result::Result<Realization, (usize, riccati::IllConditioned)> {
+    let step = |a: &Mat, c: &Mat, p: &Mat, dwd: &Mat, bwd: &Mat, lz_rhs: &Mat| {
+        riccati::innovation_pd(a, c, p, dwd, bwd, &[lz_rhs])
+    };
+    recursion(plant, cov, pattern, step)
+}
+
+/// The recursion of [`kalman`] with the innovation step `step(A, C, P̄, D W Dᵀ, B W Dᵀ, N_z)`, where
+/// N_z = Cz P̄ Cᵀ + Dz W Dᵀ is the filtering form's output-gain right side (zero in prediction).
+fn recursion<E>(
+    plant: &Plant,
+    cov: &Covariances,
+    pattern: Pattern,
+    step: impl Fn(&Mat, &Mat, &Mat, &Mat, &Mat, &Mat) -> std::result::Result<riccati::Innovation, E>,
+) -> std::result::Result<Realization, (usize, E)> {
     let mut w = cov.w();
     let mut pbar = cov.x0().clone();
     let mut steps = Vec::with_capacity(plant.steps());
@@ -120,16 +154,20 @@ pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization
         let bwb = plant.b_at(k) * &w * plant.b_at(k).transpose();
         let (c, d) = (&*plant.c_at(k), &*plant.d_at(k));
         let wd = &w * d.transpose();
-        let inn = riccati::innovation(plant.a_at(k), c, &pbar, &(d * &wd), &(plant.b_at(k) * &wd));
+        let lz_rhs = match pattern {
+            Pattern::Filtering => plant.cz_at(k) * &pbar * c.transpose() + plant.dz_at(k) * &wd,
+            Pattern::Prediction => Mat::zeros(0, c.nrows()),
+        };
+        let inn = step(plant.a_at(k), c, &pbar, &(d * &wd), &(plant.b_at(k) * &wd), &lz_rhs).map_err(|e| (k, e))?;
         let predictor = Gains::predictor(plant.a_at(k), c, &inn.k, plant.cz_at(k));
         steps.push(match pattern {
             Pattern::Filtering => {
-                let lz = (plant.cz_at(k) * &pbar * c.transpose() + plant.dz_at(k) * &wd) * &inn.s_inv;
+                let lz = inn.right_solve(&lz_rhs);
                 Gains { cf: plant.cz_at(k) - &lz * c, df: lz, ..predictor }
             }
             Pattern::Prediction => predictor,
         });
         pbar = symmetrize(&riccati::propagate(plant.a_at(k), &pbar, &bwb, &inn.k, &inn.s));
     }
-    Realization::state_estimator(plant.x0_mean.clone(), steps)
+    Ok(Realization::state_estimator(plant.x0_mean.clone(), steps))
 }

@@ -3,6 +3,7 @@
 
 pub mod choice;
 pub mod disturbance;
+pub mod intensity;
 pub mod kind;
 pub mod plant;
 pub mod shape;

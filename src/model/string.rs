@@ -21,12 +21,19 @@
 //! W_m,ij = (𝒲 ρ_i, ρ_j) = Σ_k w_k (ρ_i, e_k)(ρ_j, e_k), of rank ≤ noise_rank: singular once m
 //! exceeds it, whatever m is — the family of seed 004's theorems, grown by `projections` = m.
 //!
+//! **Time-varying intensities** (seed 004's 𝒱(τ), 𝒲(τ)). q0 and w0 (for windows, the factor of
+//! W_m = w0 G Gᵀ) may follow a time profile ([`crate::model::intensity`]): over step k the forcing
+//! covariance is s_k Q and the measurement noise covariance r_k W_m/Δ, s_k and r_k the profiles'
+//! means over the step; the truth carries them as B[k] = [√s_k I, 0], D[k] = [0, √r_k I] on the
+//! unit-profile covariances.
+//!
 //! **Estimated.** z = u at chosen points ξ_p.
 
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
-use crate::model::plant::{Covariances, Plant};
+use crate::model::intensity::Intensity;
+use crate::model::plant::{Covariances, Plant, Steps};
 use crate::numerics::linalg::{Mat, Vector, block_diag, from_rows, symmetrize};
 
 /// The `[string]` table of an experiment file.
@@ -41,8 +48,9 @@ pub struct StringFile {
     pub dt: f64,
     /// M, the number of modes the truth is simulated with.
     pub truth_modes: usize,
-    #[serde(default = "one")]
-    pub forcing_intensity: f64,
+    /// q0: a number or a time profile `{ times, values }` ([`Intensity`]).
+    #[serde(default = "one_value")]
+    pub forcing_intensity: toml::Value,
     #[serde(default = "four")]
     pub forcing_decay: f64,
     /// What the observation is projected on (module docs): `windows` (default: `sensors`,
@@ -59,8 +67,9 @@ pub struct StringFile {
     pub noise_sources: Vec<Vec<f64>>,
     /// m, the number of projections ρ₁ … ρ_m (`eigen`, `tiling`).
     pub projections: Option<usize>,
-    /// w0 of 𝒲 = Σ_{k ≤ noise_rank} w0 k^{−noise_decay} e_k ⊗ e_k (`eigen`, `tiling`).
-    pub noise_intensity: Option<f64>,
+    /// w0 of 𝒲 = Σ_{k ≤ noise_rank} w0 k^{−noise_decay} e_k ⊗ e_k (`eigen`, `tiling`), or the
+    /// factor of W_m = w0 G Gᵀ (`windows`, default 1): a number or a time profile ([`Intensity`]).
+    pub noise_intensity: Option<toml::Value>,
     pub noise_decay: Option<f64>,
     pub noise_rank: Option<usize>,
     /// Points ξ_p where u is estimated.
@@ -111,6 +120,9 @@ impl Observation {
 fn one() -> f64 {
     1.0
 }
+fn one_value() -> toml::Value {
+    toml::Value::Float(1.0)
+}
 fn four() -> f64 {
     4.0
 }
@@ -122,11 +134,15 @@ pub struct StringModel {
     pub speed: f64,
     pub dt: f64,
     pub truth_modes: usize,
-    pub forcing_intensity: f64,
+    /// q0(τ): constant, or a profile whose step means scale the forcing ([`StringModel::forcing_scale`]).
+    pub forcing: Intensity,
     pub forcing_decay: f64,
     pub observation: Observation,
-    /// W_m, the measurement noise intensity (m × m, possibly singular).
+    /// W_m, the measurement noise intensity (m × m, possibly singular); with a time profile w0(τ)
+    /// it is the intensity at w0 = 1, scaled at step k by [`StringModel::noise_scale`].
     pub w_m: Mat,
+    /// w0(τ) (module docs).
+    pub noise: Intensity,
     pub outputs: Vec<f64>,
     pub initial_displacement: f64,
     pub initial_velocity: f64,
@@ -143,8 +159,9 @@ impl StringModel {
         positive("speed", f.speed)?;
         positive("dt", f.dt)?;
         positive("duration", f.duration)?;
-        if !(f.forcing_intensity >= 0.0 && f.forcing_decay.is_finite()) {
-            return Err(Error::invalid(key("forcing_intensity"), "must be ≥ 0 (and forcing_decay finite)"));
+        let forcing = Intensity::parse(&key("forcing_intensity"), &f.forcing_intensity)?;
+        if !f.forcing_decay.is_finite() {
+            return Err(Error::invalid(key("forcing_decay"), format!("must be finite, got {}", f.forcing_decay)));
         }
         if !(f.initial_displacement >= 0.0
             && f.initial_velocity >= 0.0
@@ -164,7 +181,7 @@ impl StringModel {
             return Err(Error::invalid(key("truth_modes"), "at least one mode"));
         }
         let l = f.length;
-        let (observation, w_m) = observation(f)?;
+        let (observation, w_m, noise) = observation(f)?;
         for (p, x) in f.outputs.iter().enumerate() {
             if !(*x >= 0.0 && *x <= l) {
                 return Err(Error::invalid(format!("string.outputs[{p}]"), format!("{x} is outside [0, {l}]")));
@@ -178,10 +195,11 @@ impl StringModel {
             speed: f.speed,
             dt: f.dt,
             truth_modes: f.truth_modes,
-            forcing_intensity: f.forcing_intensity,
+            forcing,
             forcing_decay: f.forcing_decay,
             observation,
             w_m,
+            noise,
             outputs: f.outputs.clone(),
             initial_displacement: f.initial_displacement,
             initial_velocity: f.initial_velocity,
@@ -193,9 +211,28 @@ impl StringModel {
     pub fn omega(&self, k: usize) -> f64 {
         self.speed * k as f64 * std::f64::consts::PI / self.length
     }
-    /// q_k = q0 k^{−decay}.
+    /// q_k = q0 k^{−decay}, with q0 = 1 when q0 follows a time profile (then scaled per step by
+    /// [`StringModel::forcing_scale`]).
     pub fn intensity(&self, k: usize) -> f64 {
-        self.forcing_intensity * (k as f64).powf(-self.forcing_decay)
+        let q0 = match self.forcing {
+            Intensity::Constant(q0) => q0,
+            Intensity::Profile { .. } => 1.0,
+        };
+        q0 * (k as f64).powf(-self.forcing_decay)
+    }
+    /// The factor of the forcing intensity over step k: 1 for a constant q0 (already in
+    /// [`StringModel::intensity`]), the profile's mean over the step otherwise (seed 004's 𝒱(τ)).
+    pub fn forcing_scale(&self, k: usize) -> f64 {
+        if self.forcing.varies() { self.forcing.step_mean(k, self.dt) } else { 1.0 }
+    }
+    /// The factor of W_m over step k: 1 for a constant w0 (already in W_m), the profile's mean over
+    /// the step otherwise (seed 004's 𝒲(τ)).
+    pub fn noise_scale(&self, k: usize) -> f64 {
+        if self.noise.varies() { self.noise.step_mean(k, self.dt) } else { 1.0 }
+    }
+    /// Whether a forcing or noise intensity changes with time.
+    pub fn varies(&self) -> bool {
+        self.forcing.varies() || self.noise.varies()
     }
     /// (Var a_k(0), Var ȧ_k(0)): the modal variances of 𝒰₀ and 𝒰₁.
     pub fn initial(&self, k: usize) -> (f64, f64) {
@@ -254,17 +291,37 @@ impl StringModel {
                 if i % 2 == 0 { d } else { v }
             }),
         ));
-        sampled(horizon, a, c, cz, q, &self.w_m / dt, x0)
+        let (mut plant, cov) = sampled(horizon, a, c, cz, q, &self.w_m / dt, x0);
+        // Time-varying intensities: the noise blocks keep their unit-profile covariances and enter
+        // through B[k] = [√s_k I, 0], D[k] = [0, √r_k I] (s_k, r_k the step means), so the sampler,
+        // the Monte Carlo and the exact analysis see the same time-varying plant.
+        if self.varies() {
+            let steps = plant.steps();
+            let scaled = |m: &Mat, forcing: f64, noise: f64| {
+                let mut out = m.clone();
+                out.columns_mut(0, nx).scale_mut(forcing.sqrt());
+                out.columns_mut(nx, m.ncols() - nx).scale_mut(noise.sqrt());
+                out
+            };
+            let (b, d) = (plant.b.at(0).clone(), plant.d.at(0).clone());
+            plant.b = Steps::per_step((0..steps).map(|k| scaled(&b, self.forcing_scale(k), 1.0)).collect());
+            plant.d = Steps::per_step((0..steps).map(|k| scaled(&d, 1.0, self.noise_scale(k))).collect());
+        }
+        (plant, cov)
     }
 }
 
 /// The projections ρ_j and W_m of a `[string]` table (module docs), each error naming its key.
-fn observation(f: &StringFile) -> Result<(Observation, Mat)> {
+fn observation(f: &StringFile) -> Result<(Observation, Mat, Intensity)> {
     let key = |k: &str| format!("string.{k}");
     let l = f.length;
-    let projected = [("projections", f.projections.is_some()), ("noise_intensity", f.noise_intensity.is_some())]
+    let projected = [("projections", f.projections.is_some())]
         .into_iter()
         .chain([("noise_decay", f.noise_decay.is_some()), ("noise_rank", f.noise_rank.is_some())]);
+    let noise = match &f.noise_intensity {
+        Some(v) => Some(Intensity::parse(&key("noise_intensity"), v)?),
+        None => None,
+    };
     let windowed = [("sensors", !f.sensors.is_empty()), ("sensor_width", f.sensor_width.is_some())]
         .into_iter()
         .chain([("noise_sources", !f.noise_sources.is_empty())]);
@@ -294,7 +351,13 @@ fn observation(f: &StringFile) -> Result<(Observation, Mat)> {
         }
         let cols = f.noise_sources.first().map_or(0, Vec::len);
         let g = from_rows(&key("noise_sources"), &f.noise_sources, Some((f.sensors.len(), cols)))?;
-        return Ok((Observation::Windows { centres: f.sensors.clone(), width }, &g * g.transpose()));
+        // W_m = w0 G Gᵀ; w0 = 1 (and G Gᵀ exactly) unless given as a constant.
+        let noise = noise.unwrap_or(Intensity::Constant(1.0));
+        let w_m = match noise {
+            Intensity::Constant(w0) if w0 != 1.0 => w0 * (&g * g.transpose()),
+            _ => &g * g.transpose(),
+        };
+        return Ok((Observation::Windows { centres: f.sensors.clone(), width }, w_m, noise));
     }
     let m = f.projections.ok_or_else(|| Error::invalid(key("projections"), "missing: the number m of projections"))?;
     if m == 0 {
@@ -306,12 +369,17 @@ fn observation(f: &StringFile) -> Result<(Observation, Mat)> {
             format!("{m} eigenfunction projections but the truth has only {} modes", f.truth_modes),
         ));
     }
-    let w0 = f.noise_intensity.ok_or_else(|| Error::invalid(key("noise_intensity"), "missing"))?;
+    let noise = noise.ok_or_else(|| Error::invalid(key("noise_intensity"), "missing"))?;
+    // A constant w0 inside R as always; a profile's per-step factor scales W_m at w0 = 1.
+    let w0 = match noise {
+        Intensity::Constant(w0) => w0,
+        Intensity::Profile { .. } => 1.0,
+    };
     let decay = f.noise_decay.unwrap_or(0.0);
     let rank =
         f.noise_rank.ok_or_else(|| Error::invalid(key("noise_rank"), "missing: the number of noisy modes of 𝒲"))?;
-    if !(w0 >= 0.0 && w0.is_finite() && decay.is_finite()) {
-        return Err(Error::invalid(key("noise_intensity"), "must be ≥ 0 (and noise_decay finite)"));
+    if !decay.is_finite() {
+        return Err(Error::invalid(key("noise_decay"), format!("must be finite, got {decay}")));
     }
     let obs = match f.observation {
         ObservationKind::Eigen => Observation::Eigen(m),
@@ -322,7 +390,7 @@ fn observation(f: &StringFile) -> Result<(Observation, Mat)> {
     };
     // R_jk = (ρ_j, e_k) for the noisy modes k ≤ rank, W_m = R diag(w_k) Rᵀ.
     let r = Mat::from_fn(m, rank, |j, k| obs.inner(l, k + 1, j) * (w0 * ((k + 1) as f64).powf(-decay)).sqrt());
-    Ok((obs, symmetrize(&(&r * r.transpose()))))
+    Ok((obs, symmetrize(&(&r * r.transpose())), noise))
 }
 
 /// x[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q), w_m ~ (0, R) and x0 ~ (0, X0)

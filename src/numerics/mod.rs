@@ -4,5 +4,6 @@
 pub mod accuracy;
 pub mod linalg;
 pub mod linop;
+pub mod pd;
 pub mod riccati;
 pub mod solve;

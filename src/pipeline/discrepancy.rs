@@ -17,7 +17,7 @@
 
 use crate::config::Experiment;
 use crate::error::{Error, Result};
-use crate::families::galerkin::{Basis, projected, realization};
+use crate::families::galerkin::{Basis, ill_conditioned, projected, realization};
 use crate::model::shape::Shape;
 use crate::numerics::linalg::{Mat, Vector};
 use crate::numerics::riccati;
@@ -57,23 +57,27 @@ pub fn pilot_record(exp: &Experiment) -> Mat {
     y
 }
 
-/// D(α) of the `basis`, `n` Galerkin filter on the record `y` (module docs).
-pub fn discrepancy(exp: &Experiment, y: &Mat, basis: Basis, n: usize, alpha: f64) -> f64 {
+/// D(α) of the `basis`, `n` Galerkin filter on the record `y` (module docs). The innovation
+/// covariance is solved by Cholesky, as in the filter itself; a step it cannot solve accurately is
+/// refused under `key` ([`crate::families::galerkin::ill_conditioned`]).
+pub fn discrepancy(exp: &Experiment, y: &Mat, basis: Basis, n: usize, alpha: f64, key: &str) -> Result<f64> {
     let model = exp.string.as_ref().expect("a string experiment");
     let (fp, fcov) = projected(model, exp.plant.horizon, basis, n, alpha);
-    let w = fcov.w();
     let (mut pbar, mut s) = (fcov.x0().clone(), Vector::zeros(fp.nx()));
     let mut sum = 0.0;
     for k in 0..y.ncols() {
+        let w = fcov.w_at(k);
         let (a, b, c, d) = (fp.a_at(k), fp.b_at(k), fp.c.at(k), fp.d.at(k));
         let (bwb, dwd, bwd) = (b * &w * b.transpose(), d * &w * d.transpose(), b * &w * d.transpose());
-        let inn = riccati::innovation(a, c, &pbar, &dwd, &bwd);
         let nu = y.column(k) - c * &s;
-        sum += (nu.transpose() * &inn.s_inv * &nu)[(0, 0)];
+        let nu_row = Mat::from_row_slice(1, nu.len(), nu.as_slice());
+        let inn = riccati::innovation_pd(a, c, &pbar, &dwd, &bwd, &[&nu_row])
+            .map_err(|why| Error::invalid(key, ill_conditioned(k, why, alpha)))?;
+        sum += (inn.right_solve(&nu_row) * &nu)[(0, 0)];
         s = a * &s + &inn.k * &nu;
         pbar = crate::numerics::linalg::symmetrize(&riccati::propagate(a, &pbar, &bwb, &inn.k, &inn.s));
     }
-    sum / (y.ncols() * y.nrows()) as f64
+    Ok(sum / (y.ncols() * y.nrows()) as f64)
 }
 
 /// Morozov's rule on the grid `alphas` (module docs) for the `basis`, `n` Galerkin filter.
@@ -85,23 +89,31 @@ pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) ->
         return Err(Error::invalid("alphas", "a decreasing grid of α > 0"));
     }
     let y = pilot_record(exp);
-    let d: Vec<f64> = alphas.iter().map(|a| discrepancy(exp, &y, basis, n, *a)).collect();
+    let d = alphas.iter().map(|a| discrepancy(exp, &y, basis, n, *a, "alphas")).collect::<Result<Vec<f64>>>()?;
     let alpha = match d.iter().position(|v| *v > 1.0) {
         None => *alphas.last().expect("a grid"),
         Some(0) => alphas[0],
         Some(i) => {
-            // D crosses 1 between two grid points: bisect on log10 α to 0.01 decades.
-            let d_above_one = |t: f64| discrepancy(exp, &y, basis, n, 10f64.powf(t)) > 1.0;
+            // D crosses 1 between two grid points: bisect on log10 α to 0.01 decades. A refused
+            // step inside the bracket stops the rule with its error, never a guessed side.
+            let refused = std::cell::RefCell::new(None);
+            let d_above_one = |t: f64| match discrepancy(exp, &y, basis, n, 10f64.powf(t), "alphas") {
+                Ok(d) => d > 1.0,
+                Err(e) => {
+                    refused.borrow_mut().get_or_insert(e);
+                    true
+                }
+            };
             let (lo, hi) = bisect(alphas[i].log10(), alphas[i - 1].log10(), d_above_one, |a, b| b - a < 0.01, 40);
+            if let Some(e) = refused.into_inner() {
+                return Err(e);
+            }
             10f64.powf(0.5 * (lo + hi))
         }
     };
     let model = exp.string.as_ref().expect("checked above");
-    let exact = crate::analysis::exact::error(
-        &exp.plant,
-        &realization(model, exp.plant.horizon, basis, n, alpha),
-        &exp.nominal,
-    )
-    .total;
+    let filter = realization(model, exp.plant.horizon, basis, n, alpha)
+        .map_err(|(k, why)| Error::invalid("alphas", ill_conditioned(k, why, alpha)))?;
+    let exact = crate::analysis::exact::error(&exp.plant, &filter, &exp.nominal).total;
     Ok(AlphaChoice { alphas: alphas.to_vec(), discrepancy: d, alpha, exact })
 }

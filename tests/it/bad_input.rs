@@ -290,6 +290,20 @@ fn bad_string_and_galerkin_parameters() {
         &["string.sensor_width", "only with observation = \"windows\""],
     );
     fails_cleanly(&tiling.patch("projections = 8\n", ""), &["string.projections", "missing"]);
+    // Time-varying intensities (issue 24): a negative value, and a profile of the wrong length.
+    fails_cleanly(
+        &base.patch("forcing_intensity = 1.0", "forcing_intensity = { times = [0.0, 0.5], values = [1.0, -1.0] }"),
+        &["string.forcing_intensity.values[1]", "≥ 0"],
+    );
+    fails_cleanly(
+        &tiling.patch("noise_intensity = 0.0001", "noise_intensity = { times = [0.0, 0.5], values = [1e-4] }"),
+        &["string.noise_intensity.values", "1 values for 2 times"],
+    );
+    // An α too small for a Cholesky solve in double precision at Δ/2 (galerkin::alpha_too_small_…).
+    fails_cleanly(
+        &base.patch("dt = 0.0025", "dt = 0.00125").patch(sweep, "n = [16], alpha = [1e-16]"),
+        &["filters.eigen_n16_alpha0.0000000000000001.alpha", "condition number"],
+    );
     fails_cleanly(
         &tiling
             .patch("observation = \"tiling\"", "observation = \"eigen\"")

@@ -101,7 +101,7 @@ fn projections_on_windows_and_eigenfunctions() {
     assert_eq!(model.w_m, Mat::from_diagonal_element(8, 8, 1e-4), "W_m = diag(w_j) for j ≤ 8 = noise_rank");
     // The hat basis on 31 nodes against the eigenfunctions: their filters agree within 1 % (α = 1e-6).
     let err = |basis| {
-        let r = realization(model, eig.plant.horizon, basis, 31, 1e-6);
+        let r = realization(model, eig.plant.horizon, basis, 31, 1e-6).expect("well conditioned");
         exact::error(&eig.plant, &r, &eig.nominal).total
     };
     let (hat, eigen) = (err(Basis::Hat), err(Basis::Eigen));
@@ -121,7 +121,7 @@ fn discrepancy_rule_for_alpha() {
         let exp = common::variant(file, variant, 10);
         let model = exp.string.as_ref().unwrap();
         let err = |a: f64| {
-            let r = realization(model, exp.plant.horizon, Basis::Eigen, n, a);
+            let r = realization(model, exp.plant.horizon, Basis::Eigen, n, a).expect("well conditioned");
             exact::error(&exp.plant, &r, &exp.nominal).total / exp.plant.steps() as f64
         };
         let c = filterbench::pipeline::discrepancy::choose_alpha(&exp, Basis::Eigen, n, &alphas).unwrap();

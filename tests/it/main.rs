@@ -10,6 +10,7 @@ mod bad_input;
 mod common;
 mod determinism;
 mod disturbance;
+mod double_double;
 mod end_to_end;
 mod exact_vs_mc;
 mod galerkin;
