@@ -36,6 +36,11 @@ pub struct Solution {
     pub seconds: f64,
     /// clarabel stopped at its reduced tolerances (AlmostSolved): the caller checks the result.
     pub almost: bool,
+    /// The primal and dual objectives clarabel reports: their difference is its duality gap.
+    pub primal_objective: f64,
+    pub dual_objective: f64,
+    /// The larger of clarabel's relative primal and dual residuals.
+    pub residual: f64,
 }
 
 /// Why a program was not solved: clarabel's status, and whether it is a certificate that the
@@ -197,6 +202,9 @@ impl Conic {
                 iterations: sol.iterations,
                 seconds: sol.solve_time,
                 almost: sol.status == SolverStatus::AlmostSolved,
+                primal_objective: sol.obj_val,
+                dual_objective: sol.obj_val_dual,
+                residual: sol.r_prim.max(sol.r_dual),
             }),
             s => Err(Failure {
                 status: format!("{s:?}"),
