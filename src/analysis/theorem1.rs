@@ -38,7 +38,7 @@ use crate::model::plant::Plant;
 use crate::numerics::linalg::{Mat, symmetrize};
 use crate::numerics::solve::affine::{AffMat, Vars};
 use crate::numerics::solve::conic::{Conic, Failure, Tuning};
-use crate::numerics::solve::line::bisect;
+use crate::numerics::solve::line::{bisect, minimize_on_open};
 
 /// The level of a bound: a total anisotropy a ≥ 0 (over lw = mw(N+1)), or H∞ (a = ∞).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -462,52 +462,11 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
         Level::Hinf => (1.0 / q_bar, q_bar, 2.0 * f64::EPSILON / q_bar),
         Level::Anisotropy(a) => {
             let at = |q: f64| ln_det(q).map_or(f64::INFINITY, |(ld, _)| -((ld - 2.0 * a) / lw).exp_m1() / q);
-            let (gamma_sq, q) = minimize_on(&at, q_bar);
+            let (gamma_sq, q) = minimize_on_open(&at, q_bar);
             let (ld, ld_error) = ln_det(q).expect("the minimizer is a feasible q");
             let l = (ld - 2.0 * a) / lw;
             (gamma_sq, q, l.exp() / q * ld_error / lw + 4.0 * f64::EPSILON * gamma_sq.abs())
         }
     };
     Ok(Analysis { gamma_sq, q, error, seconds: t.elapsed().as_secs_f64() })
-}
-
-/// min over q ∈ (0, q̄) of γ²(q): a geometric grid from 1e-12 q̄ to q̄(1 − 1e-12) (γ²(q) is smooth
-/// and has one minimum on every filter we have met, but the grid does not rely on it), then golden
-/// sections in the grid cell around the best point.
-fn minimize_on(f: &impl Fn(f64) -> f64, q_bar: f64) -> (f64, f64) {
-    let mut grid: Vec<f64> = (0..=24).map(|i| q_bar * 10f64.powf(-12.0 + 12.0 * i as f64 / 24.0)).collect();
-    grid.extend((1..=12).map(|j| q_bar * (1.0 - 10f64.powi(-j))));
-    grid.sort_by(f64::total_cmp);
-    grid.dedup();
-    let values: Vec<f64> = grid.iter().map(|q| f(*q)).collect();
-    let best = (0..grid.len()).min_by(|i, j| values[*i].total_cmp(&values[*j])).expect("grid");
-    let (mut lo, mut hi) = (grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)]);
-    let mut best_q = (values[best], grid[best]);
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..80 {
-        if hi - lo <= 1e-12 * hi {
-            break;
-        }
-        if f1 <= f2 {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - g * (hi - lo);
-            f1 = f(x1);
-        } else {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + g * (hi - lo);
-            f2 = f(x2);
-        }
-        for c in [(f1, x1), (f2, x2)] {
-            if c.0 < best_q.0 {
-                best_q = c;
-            }
-        }
-    }
-    best_q
 }

@@ -152,8 +152,11 @@ fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<A
 
 /// A filter's exact worst case over the experiment's uncertainty: covariances over their sets
 /// (disturbance blocks carry no covariance) and deterministic disturbances over their energy bounds
-/// ([`crate::analysis::disturbance::worst`]), evaluated exactly at the joint maximizer. None if the experiment has
-/// neither sets nor disturbances.
+/// ([`crate::analysis::disturbance::worst`]), evaluated exactly at the joint maximizer found. With
+/// disturbances, also the certified bound on the joint maximum: E J = J(K) + (what the sequence
+/// adds), the two parts maximized independently (J(K) is affine in K and does not involve the
+/// sequence; seed 000 §5), so the sets' exact maximum plus the certified increase bounds it. None
+/// if the experiment has neither sets nor disturbances.
 pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCase>> {
     let center = exp.nominal.clone();
     let sets = exact::worst_case(&exp.plant, real, &center, &exp.sets)?;
@@ -161,8 +164,24 @@ pub fn worst_case(exp: &Experiment, real: &Realization) -> Result<Option<WorstCa
     if sets.is_none() && dist.is_none() {
         return Ok(None);
     }
-    let mut wc =
-        sets.unwrap_or(WorstCase { total: 0.0, argmax: center, psd: true, disturbance: None, disturbance_bound: None });
+    let mut wc = match sets {
+        Some(wc) => wc,
+        None => {
+            let at = exact::error(&exp.plant, real, &center);
+            if let Some(cause) = at.unresolved() {
+                return Err(Error::invalid("exact error at the nominal covariances", cause));
+            }
+            WorstCase {
+                total: at.total,
+                argmax: center,
+                psd: true,
+                disturbance: None,
+                disturbance_bound: None,
+                certified: None,
+            }
+        }
+    };
+    wc.certified = dist.as_ref().map(|w| (wc.total + w.increase) * (1.0 + 2.0 * f64::EPSILON));
     wc.disturbance_bound = dist.as_ref().map(|w| (w.value, w.upper));
     wc.disturbance = dist.map(|w| w.sequence);
     let at = exact::error_with_mean(&exp.plant, real, &wc.argmax, wc.disturbance.as_ref());

@@ -96,14 +96,13 @@ pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Res
 /// Whether a filter's `guarantee` is a promise in a scenario: the minimax bound holds for every
 /// covariance of its sets (any shape, any disturbance within its energy bound), so where the
 /// scenario's covariance lies in every set and its inputs are independent; `exact_at_design` is
-/// the filter's belief ([`Claimed`]), never a promise. With two or more disturbance blocks seed
-/// 000's Theorem 3 drops the cross terms between them, so its bound is not proven and is no promise
-/// either.
+/// the filter's belief ([`Claimed`]), never a promise. With disturbances the bound printed is the
+/// filter's certified worst case over the sets and the sequences (any number of blocks;
+/// [`super::outcome::FilterOutcome`]), so it holds wherever the covariance lies in the sets.
 pub fn guarantee_holds(exp: &Experiment, design: &Design, cov: &Covariances, joint: bool) -> bool {
     let Some(g) = &design.guarantee else { return false };
     g.kind.bounds_the_sets()
         && !joint
-        && exp.disturbances.iter().filter(|d| d.is_some()).count() <= 1
         && exp
             .sets
             .iter()

@@ -62,6 +62,7 @@ fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<
                 "guarantee": d.design.guarantee.as_ref().map(|g| serde_json::json!({"kind": g.kind.name(), "total": g.total})),
                 "claimed": d.claimed.as_ref().map(|c| c.total),
                 "worst_case": d.worst.as_ref().map(|w| w.total),
+                "certified_worst_case": d.worst.as_ref().and_then(|w| w.certified),
                 "worst_disturbance": d.worst.as_ref().and_then(|w| w.disturbance_bound).map(|(value, upper)| serde_json::json!({
                     "value": value, "upper_bound": upper, "exact": value >= upper * (1.0 - 1e-9)})),
                 "design_covariance": d.design.design_covariance.as_ref().map(cov_json),

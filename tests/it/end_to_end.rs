@@ -54,7 +54,7 @@ fn kalman_baseline_writes_the_output_contract() {
 
 /// Every column of summary.parquet, in order: a new or renamed column must be documented here and
 /// in the README.
-const SUMMARY_COLUMNS: [&str; 45] = [
+const SUMMARY_COLUMNS: [&str; 46] = [
     "experiment",
     "variant",
     "scenario",

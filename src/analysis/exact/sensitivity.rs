@@ -159,6 +159,11 @@ pub struct WorstCase {
     /// The deterministic error that sequence adds and an upper bound on the maximum over all
     /// admissible sequences ([`crate::analysis::disturbance::Worst`]; equal when certified exact).
     pub disturbance_bound: Option<(f64, f64)>,
+    /// With deterministic disturbances: a certified upper bound on the maximum of E J over the sets
+    /// and the disturbances jointly, the sets' exact maximum plus the disturbances' certified
+    /// increase ([`crate::analysis::disturbance::Worst::increase`]); None without disturbances,
+    /// where `total` is itself the maximum.
+    pub certified: Option<f64>,
 }
 
 /// max over the sets of J(K) = J(center) + Σ_i max_{K_i ∈ set_i} ⟨∂J/∂K_i, K_i − center_i⟩ (J is
@@ -183,5 +188,5 @@ pub fn worst_case(
         }
     }
     let psd = argmax.blocks.iter().all(crate::numerics::linalg::is_psd);
-    Ok(Some(WorstCase { total, argmax, psd, disturbance: None, disturbance_bound: None }))
+    Ok(Some(WorstCase { total, argmax, psd, disturbance: None, disturbance_bound: None, certified: None }))
 }

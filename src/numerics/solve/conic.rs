@@ -43,6 +43,11 @@ pub struct Solution {
     /// weighted by the other side's variables (`numerics::accuracy`'s module docs). What a comparison with another route allows the
     /// solver.
     pub objective_error: f64,
+    /// The primal and dual objectives clarabel reports: their difference is its duality gap.
+    pub primal_objective: f64,
+    pub dual_objective: f64,
+    /// The larger of clarabel's relative primal and dual residuals.
+    pub residual: f64,
 }
 
 /// Why a program was not solved: clarabel's status, and whether it is a certificate that the
@@ -236,6 +241,9 @@ impl Conic {
                         first_order
                     }
                 },
+                primal_objective: sol.obj_val,
+                dual_objective: sol.obj_val_dual,
+                residual: sol.r_prim.max(sol.r_dual),
             }),
             s => Err(Failure {
                 status: format!("{s:?}"),

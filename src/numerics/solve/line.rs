@@ -64,3 +64,45 @@ pub fn bisect(
     }
     (lo, hi)
 }
+
+/// min over q ∈ (0, q̄) of f(q) and its argument, for seed 003 Theorem 1's γ²(q)
+/// (`analysis::theorem1::analyze`): a geometric grid from 1e-12 q̄ to q̄(1 − 1e-12) (γ²(q) is
+/// smooth and has one minimum on every filter we have met, but the grid does not rely on it), then
+/// golden sections in the grid cell around the best point.
+pub fn minimize_on_open(f: &impl Fn(f64) -> f64, q_bar: f64) -> (f64, f64) {
+    let mut grid: Vec<f64> = (0..=24).map(|i| q_bar * 10f64.powf(-12.0 + 12.0 * i as f64 / 24.0)).collect();
+    grid.extend((1..=12).map(|j| q_bar * (1.0 - 10f64.powi(-j))));
+    grid.sort_by(f64::total_cmp);
+    grid.dedup();
+    let values: Vec<f64> = grid.iter().map(|q| f(*q)).collect();
+    let best = (0..grid.len()).min_by(|i, j| values[*i].total_cmp(&values[*j])).expect("grid");
+    let (mut lo, mut hi) = (grid[best.saturating_sub(1)], grid[(best + 1).min(grid.len() - 1)]);
+    let mut best_q = (values[best], grid[best]);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..80 {
+        if hi - lo <= 1e-12 * hi {
+            break;
+        }
+        if f1 <= f2 {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        }
+        for c in [(f1, x1), (f2, x2)] {
+            if c.0 < best_q.0 {
+                best_q = c;
+            }
+        }
+    }
+    best_q
+}

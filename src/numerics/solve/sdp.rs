@@ -139,37 +139,3 @@ pub fn certified_upper(g: &Mat, cons: &SymConstraints, multiplier: Option<&Mat>)
     let rounding = (n * n) as f64 * f64::EPSILON * scale;
     Ok(accuracy::round_up(value, slack * trace.max(0.0) + rounding))
 }
-
-/// An upper bound on max uᵀ M u over u = (u_0, …, u_{K−1}) (block k of size `size`) with
-/// |u_k|² ≤ r_k for every k and, when `total` is given, Σ_k |u_k|² ≤ total: the Lagrangian (S-lemma)
-/// dual min Σ_k r_k μ_k + total·ν subject to blockdiag(μ_k I) + ν I ⪰ M, μ, ν ≥ 0, solved with
-/// clarabel. The solver's multipliers are made exactly feasible by raising them by the most negative
-/// eigenvalue of the slack, so the returned value is a bound whatever clarabel's tolerance.
-pub fn ball_product_bound(m: &Mat, size: usize, r: &[f64], total: Option<f64>) -> Result<f64, String> {
-    let n = m.nrows();
-    let steps = r.len();
-    debug_assert_eq!(n, steps * size);
-    let unit = |k: usize| {
-        let mut e = Mat::zeros(n, n);
-        e.view_mut((k * size, k * size), (size, size)).fill_with_identity();
-        e
-    };
-    let mut terms: Vec<(usize, Mat)> = (0..steps).map(|k| (k, unit(k))).collect();
-    let mut cost: Vec<f64> = r.to_vec();
-    if let Some(t) = total {
-        terms.push((steps, Mat::identity(n, n)));
-        cost.push(t);
-    }
-    let mut p = Conic::default();
-    p.nonnegative((0..cost.len()).map(|i| (0.0, vec![(i, 1.0)])).collect());
-    p.psd(&-symmetrize(m), &terms);
-    let sol = p.minimize(&cost)?;
-    let mut x: Vec<f64> = sol.x.iter().map(|v| v.max(0.0)).collect();
-    let slack = terms.iter().fold(-symmetrize(m), |acc, (i, t)| acc + t * x[*i]);
-    let shift = (-crate::numerics::linalg::min_eigenvalue(&slack)).max(0.0);
-    match total {
-        Some(_) => x[steps] += shift,
-        None => x.iter_mut().for_each(|v| *v += shift),
-    }
-    Ok(x.iter().zip(&cost).map(|(a, b)| a * b).sum())
-}
