@@ -29,12 +29,19 @@ def compare(before: Path, after: Path) -> int:
                 changed += 1
                 continue
             a, b = pl.read_parquet(fa), pl.read_parquet(fb)
-            if a.columns != b.columns or a.height != b.height:
-                print(f"{exp}/{table}: shape or columns differ ({a.shape} vs {b.shape})")
+            if a.height != b.height:
+                print(f"{exp}/{table}: row counts differ ({a.height} vs {b.height})")
                 changed += 1
                 continue
             diffs = []
-            for col in a.columns:
+            # A column added or removed is a change; the columns both have are compared value by value.
+            added = [c for c in b.columns if c not in a.columns]
+            removed = [c for c in a.columns if c not in b.columns]
+            if added:
+                diffs.append("added columns " + ", ".join(added))
+            if removed:
+                diffs.append("removed columns " + ", ".join(removed))
+            for col in [c for c in a.columns if c in b.columns]:
                 if col.endswith("_seconds"):
                     continue
                 ca, cb = a[col], b[col]
