@@ -1,6 +1,6 @@
 //! filterbench: Monte Carlo benchmarking of robust state estimators. Every filter family compiles
-//! to one linear [`realization::Realization`]; the exact analysis ([`exact`]) and the Monte Carlo
-//! engine ([`montecarlo`]) are generic over it. See the README for the picture.
+//! to one linear [`filter::realization::Realization`]; the exact analysis ([`analysis::exact`]) and
+//! the Monte Carlo engine ([`sim::montecarlo`]) are generic over it. See the README for the picture.
 
 pub mod analysis;
 pub mod config;

@@ -9,7 +9,7 @@ filterbench's exact figure and the speed set beside `filterbench bench experimen
     python3 -m venv venv --system-site-packages && venv/bin/pip install numpy numba
     venv/bin/python tools/bench_peers.py [experiments/bench_example2.toml] [--trials 1000000]
 
-Not part of `cargo test`. The plant semantics are filterbench's (SPEC section 0): x[k+1] = A x[k] +
+Not part of `cargo test`. The plant semantics are filterbench's (docs/math.md §0): x[k+1] = A x[k] +
 B w[k], y[k] = C x[k] + D w[k] measured from k = first_measurement, z = x, w ~ N(0, blkdiag(process,
 measurement)), x0 ~ N(0, x0), J = sum over k = 0..N of |x[k] - xhat[k|k]|^2.
 """

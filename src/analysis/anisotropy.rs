@@ -1,4 +1,4 @@
-//! Anisotropy analysis (seed 003 §2, SPEC §5): the anisotropy of a Gaussian vector, and the
+//! Anisotropy analysis (seed 003 §2, docs/math.md §5): the anisotropy of a Gaussian vector, and the
 //! a-anisotropic norm of a linear operator F from Λ = E[FᵀF] by a scalar root-finding problem on the
 //! eigenvalues of Λ.
 //!
@@ -95,7 +95,7 @@ pub fn error_gram(plant: &crate::model::plant::Plant, real: &crate::filter::real
     Ok(full.view((n, n), (lw, lw)).into_owned())
 }
 
-/// A realization's exact a-anisotropic norm (SPEC §5) with the worst input covariance Σ(q) over
+/// A realization's exact a-anisotropic norm (docs/math.md §5) with the worst input covariance Σ(q) over
 /// W = col(w[0..N]) (tr Σ = lw).
 pub fn realization_norm(
     plant: &crate::model::plant::Plant,

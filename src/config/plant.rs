@@ -21,7 +21,7 @@ pub(super) struct Matrices {
     pub(super) known_input: Vec<Vector>,
 }
 
-/// Reads `[plant]`'s matrices, the mean of x0 and the known input r[k] (SPEC §0).
+/// Reads `[plant]`'s matrices, the mean of x0 and the known input r[k] (docs/math.md §0).
 pub(super) fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
     let a = from_rows("plant.A", &p.A, None)?;
     let n = a.nrows();
@@ -95,7 +95,7 @@ pub(super) fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
     Ok(Matrices { a, b, c, d, cz, dz, x0_mean, known_input })
 }
 
-/// The plant (SPEC §0): its matrices, each constant or given per step (seed 003 (3.1)), dropouts
+/// The plant (docs/math.md §0): its matrices, each constant or given per step (seed 003 (3.1)), dropouts
 /// (`plant.arrival`) or Markov modes (seed 001), which exclude each other.
 pub(super) fn plant(
     p: &PlantFile,

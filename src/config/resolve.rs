@@ -234,7 +234,7 @@ fn covariance_blocks(
     Ok((blocks, dims, disturbances))
 }
 
-/// Each `[sets.BLOCK]`: the uncertainty set of that covariance block (SPEC §2).
+/// Each `[sets.BLOCK]`: the uncertainty set of that covariance block (docs/math.md §2).
 fn sets(
     files: &BTreeMap<String, Strict<SetFile>>,
     disturbances: &BTreeMap<String, DisturbanceFile>,

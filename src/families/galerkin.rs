@@ -1,4 +1,4 @@
-//! The regularized Galerkin filter (seed 004, SPEC §6) for the string of [`crate::model::string`].
+//! The regularized Galerkin filter (seed 004, docs/math.md §6) for the string of [`crate::model::string`].
 //!
 //! **Projection.** u ≈ Σ_{i ≤ n} x_i φ_i with either the eigenfunctions (`basis = "eigen"`:
 //! mass matrix I, F = diag(ω_i²), forcing covariance diag(q_i)) or the piecewise-linear hat

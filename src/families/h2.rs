@@ -1,4 +1,4 @@
-//! The generalized H2 filter (seed 002 eqs (5.6)–(5.7), SPEC §4; docs/seed002_notes.md): the Kalman
+//! The generalized H2 filter (seed 002 eqs (5.6)–(5.7), docs/math.md §4; docs/seed002_notes.md): the Kalman
 //! predictor for the weights R = cov x0, G = cov w with the noise split (5.5),
 //!
 //!     P2[t+1] = A (P2⁻¹ + Cᵀ G_D⁻¹ C)⁻¹ Aᵀ + G_B,   P2[0] = R,   Θ* = A P2 Cᵀ (C P2 Cᵀ + G_D)⁻¹,

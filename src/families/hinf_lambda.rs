@@ -1,4 +1,4 @@
-//! The H∞-λ filter (seed 002 eqs (5.9)–(5.10), SPEC §4; docs/seed002_notes.md), a predictor:
+//! The H∞-λ filter (seed 002 eqs (5.9)–(5.10), docs/math.md §4; docs/seed002_notes.md), a predictor:
 //!
 //!     M[t]    = P∞[t]⁻¹ + Cᵀ G_D⁻¹ C − λ⁻¹ Czᵀ Cz,   Θ∞[t] = A M⁻¹ Cᵀ G_D⁻¹,
 //!     P∞[t+1] = A M⁻¹ Aᵀ + G_B,                        P∞[0] = R,

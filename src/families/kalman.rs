@@ -1,8 +1,8 @@
-//! The Kalman family (SPEC §1): seed 000 eqs (4)–(6) in filtering form and seed 002 eqs (5.6)–(5.7)
+//! The Kalman family (docs/math.md §1): seed 000 eqs (4)–(6) in filtering form and seed 002 eqs (5.6)–(5.7)
 //! in prediction form, designed at a stated covariance. Both forms share the one-step predictor
 //! state s[k] = x̂[k|k−1]; they differ only in the output map.
 //!
-//! The recursion is written for the stacked noise of SPEC §0, where the same w[k] may enter both
+//! The recursion is written for the stacked noise of docs/math.md §0, where the same w[k] may enter both
 //! x[k+1] (through B) and y[k] (through D): with innovation covariance S = C P̄ Cᵀ + D W Dᵀ,
 //!
 //!     L  = (A P̄ Cᵀ + B W Dᵀ) S⁺                 (predictor gain)

@@ -1,4 +1,4 @@
-//! The Markov-jump predictor (seed 001, SPEC §3): x̂[n+1] = A_θ x̂ + K_θ(n)(y − C_θ x̂) + r, ẑ = Cz x̂,
+//! The Markov-jump predictor (seed 001, docs/math.md §3): x̂[n+1] = A_θ x̂ + K_θ(n)(y − C_θ x̂) + r, ẑ = Cz x̂,
 //! with θ = θ[n] the observed mode. With P_s(n) = E[x̃x̃ᵀ 1{θ[n] = s}] and p_s(n) = P(θ[n] = s), written
 //! for the stacked noise (B_s w and D_s w may share components, covariance W):
 //!

@@ -1,4 +1,4 @@
-//! The minimax filter under covariance uncertainty (seed 000 §§3–4, SPEC §2): the Kalman filter
+//! The minimax filter under covariance uncertainty (seed 000 §§3–4, docs/math.md §2): the Kalman filter
 //! built at the worst covariance K̂ = argmax_{K ∈ set} I(K), where I(K) = J(Kalman(K), K) is the
 //! concave dual functional of eq (14).
 //!

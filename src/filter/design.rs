@@ -32,7 +32,7 @@ impl DesignInput<'_> {
         self.sets.iter().any(Option::is_some)
     }
 
-    /// The covariance a design parameter names (SPEC §7's choices, without the ones that name
+    /// The covariance a design parameter names (docs/math.md §7's choices, without the ones that name
     /// another filter: the caller refuses those with its own reason). `has_sets`: whether the
     /// choices that need an uncertainty set may be taken.
     pub fn design_point(&self, key: &str, choice: &CovChoiceFile, has_sets: bool) -> Result<Covariances> {

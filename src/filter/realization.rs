@@ -1,4 +1,4 @@
-//! The one form every filter compiles to (SPEC §0):
+//! The one form every filter compiles to (docs/math.md §0):
 //!
 //!     s[k+1] = Af[k] s[k] + Bf[k] y[k] + Gf[k] r[k]
 //!     ẑ[k]   = Cf[k] s[k] + Df[k] y[k]

@@ -1,4 +1,4 @@
-//! Which covariance a scenario's noise has, or a filter is designed at (SPEC §7): the nominal one,
+//! Which covariance a scenario's noise has, or a filter is designed at (docs/math.md §7): the nominal one,
 //! a given matrix, a vertex, an interior point or the elementwise maximum of the uncertainty set —
 //! the points this layer can compute — or the worst case for, or the design point of, a named
 //! filter, which the pipeline resolves once the filters are designed.

@@ -1,4 +1,4 @@
-//! The plant of SPEC §0 on a finite horizon k = 0..N:
+//! The plant of docs/math.md §0 on a finite horizon k = 0..N:
 //!
 //!     x[k+1] = A x[k] + B w[k] + r[k],   x[0] ~ (x0_mean, S_x0)
 //!     y[k]   = C[k] x[k] + D w[k]         (no measurement before `first_measurement`; C[k] = C
@@ -8,11 +8,11 @@
 //! `w` stacks named noise blocks (seed 000: `w = (ε, w_meas)`, `B = [b 0]`, `D = [0 d]`); each block
 //! has its own covariance, so an uncertainty set can constrain one block and leave the others fixed.
 //!
-//! Markov-switching matrices (seed 001, SPEC §3): with `modes` the plant uses A_θ, B_θ, C_θ, D_θ of
+//! Markov-switching matrices (seed 001, docs/math.md §3): with `modes` the plant uses A_θ, B_θ, C_θ, D_θ of
 //! the mode θ[k] of a finite Markov chain with transition matrix Π (Π[s][k] = P(θ[n+1] = k | θ[n] = s))
 //! and initial distribution p(0), independent of x0 and of the noise.
 //!
-//! Measurement dropouts (seed 003 (4.30), SPEC §0) are the two-mode case of independent modes: with
+//! Measurement dropouts (seed 003 (4.30), docs/math.md §0) are the two-mode case of independent modes: with
 //! [`Measurement::Dropout`] the measurement is y[k] = λ[k] C x[k] + D w[k], λ[k] ~ Bernoulli(p),
 //! i.e. mode 0 ("lost", C_0 = 0) with probability 1 − p and mode 1 ("arrived", C_1 = C) with
 //! probability p, every row of Π equal to (1 − p, p). Equivalently C[k] = p C + (λ[k] − p) C, the
@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 use crate::model::shape::Shape;
 use crate::numerics::linalg::{Mat, Vector, block_diag};
 
-/// How the measurement depends on a random mode (SPEC §0, §3).
+/// How the measurement depends on a random mode (docs/math.md §0, §3).
 #[derive(Clone, Debug)]
 pub enum Measurement {
     /// y[k] = C[k] x[k] + D w[k] at every measured step.
@@ -36,7 +36,7 @@ pub enum Measurement {
     Markov(Modes),
 }
 
-/// Information pattern (SPEC §0): filtering lets ẑ[k] use y[k]; prediction uses y[0..k-1] only.
+/// Information pattern (docs/math.md §0): filtering lets ẑ[k] use y[k]; prediction uses y[0..k-1] only.
 #[derive(Clone, Copy, Debug, serde::Deserialize, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Pattern {

@@ -1,4 +1,4 @@
-//! The vibrating string of seed 004 §§1–2 (SPEC §6): u_tt = c² u_ξξ + v on [0, L], fixed ends, at
+//! The vibrating string of seed 004 §§1–2 (docs/math.md §6): u_tt = c² u_ξξ + v on [0, L], fixed ends, at
 //! rest at t = 0 by default, observed by m local averages of u with white measurement noise of a singular
 //! intensity W_m, sampled every Δ.
 //!

@@ -1,4 +1,4 @@
-//! Covariance uncertainty sets (seed 000 §2 and §6, SPEC §2): the elementwise box
+//! Covariance uncertainty sets (seed 000 §2 and §6, docs/math.md §2): the elementwise box
 //! {S : |S_ij − C_ij| ≤ h_ij}, the Frobenius ball {‖S − C‖_F ≤ ρ}, the Loewner interval
 //! {L ⪯ S ⪯ U}, each optionally intersected with {S ⪰ 0}. A filter's error is affine in the
 //! covariance, so everything asked of a set is a linear maximization: closed form for the plain box

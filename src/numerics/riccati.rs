@@ -1,7 +1,7 @@
 //! One step of the predictor Riccati recursion in covariance form, the step the Kalman family
 //! (seed 000 eqs (4)–(6), seed 002 eqs (5.6)–(5.7)), the Markov-jump family (seed 001 eqs
 //! (15)–(16)), the intermittent-observation predictor (seed 003 §4.2.1) and the generalized H2
-//! filter share (SPEC §0, §1, §3, §4), and seed 004's regularized Galerkin filter (its Kalman–Bucy
+//! filter share (docs/math.md §0, §1, §3, §4), and seed 004's regularized Galerkin filter (its Kalman–Bucy
 //! gain P Cᵀ S_α⁻¹, seed 004 eq (6)) with it:
 //!
 //!     S = C P Cᵀ + D W Dᵀ,   K = (A P Cᵀ + B W Dᵀ) S⁺,   P' = A P Aᵀ + B W Bᵀ − K S Kᵀ.

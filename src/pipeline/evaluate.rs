@@ -1,5 +1,5 @@
-//! Stage 3: each scenario evaluated: every filter's exact error (SPEC §4) and exact NEES, then the
-//! Monte Carlo on the same input (SPEC §6), gathered into the scenario's [`ScenarioOutcome`].
+//! Stage 3: each scenario evaluated: every filter's exact error (docs/math.md §4) and exact NEES, then the
+//! Monte Carlo on the same input (docs/math.md §6), gathered into the scenario's [`ScenarioOutcome`].
 
 use std::time::Instant;
 
@@ -64,7 +64,7 @@ impl<'a> Engine<'a> {
     }
 }
 
-/// The exact error of filter `r` in a scenario (SPEC §4): with the scenario's covariance and
+/// The exact error of filter `r` in a scenario (docs/math.md §4): with the scenario's covariance and
 /// deterministic disturbance, or the first two moments of its joint input (seed 002).
 fn exact_of(p: &Plant, r: &Realization, setup: &Setup) -> Result<ExactError> {
     match &setup.joint_moments {
@@ -219,7 +219,7 @@ fn ratio_check<'a>(exp: &Experiment, filters: &'a [DesignedFilter]) -> Option<Ra
     })
 }
 
-/// E|W|² and the Gaussian anisotropy of W = col(w[0..N]) for a scenario's input (SPEC §5).
+/// E|W|² and the Gaussian anisotropy of W = col(w[0..N]) for a scenario's input (docs/math.md §5).
 ///
 /// The anisotropy is exact for W = L u with L square and u i.i.d. of the scenario's shape: the
 /// Gaussian formula plus lw times the shape's negentropy h_G − h(u) (seed 003 §2 with

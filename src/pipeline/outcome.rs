@@ -134,7 +134,7 @@ pub struct Evaluated<'a> {
 }
 
 impl FilterOutcome {
-    /// Every figure of `f` in one scenario (SPEC §5's columns of `summary.parquet`).
+    /// Every figure of `f` in one scenario (docs/math.md §5's columns of `summary.parquet`).
     pub fn new(f: &DesignedFilter, e: Evaluated) -> Self {
         let g = f.design.guarantee.as_ref().filter(|_| e.holds);
         let promise = match (g, &f.claimed) {

@@ -1,4 +1,4 @@
-//! Stage 2: each scenario's setup: the covariance it names (SPEC §7), its deterministic disturbance
+//! Stage 2: each scenario's setup: the covariance it names (docs/math.md §7), its deterministic disturbance
 //! (seed 000 §5), its joint input (seed 002, seed 003), which promises hold in it, and the noise
 //! sampler built from all of these. `experiment` and `bench` both draw through [`setup`].
 
@@ -61,7 +61,7 @@ pub fn setup(exp: &Experiment, filters: &[DesignedFilter], index: usize, cov: &C
     Ok(Setup { holds, covariances, covariance_label, disturbance_label, w_mean, joint, joint_moments, sampler })
 }
 
-/// The covariances a scenario's choice names (SPEC §7); `worst_for` and `design_of` read the
+/// The covariances a scenario's choice names (docs/math.md §7); `worst_for` and `design_of` read the
 /// designed filters.
 fn covariance_of(choice: &CovChoice, key: &str, exp: &Experiment, filters: &[DesignedFilter]) -> Result<Covariances> {
     let cov = match choice.point(&exp.nominal, &exp.sets)? {

@@ -1,4 +1,4 @@
-//! One block of [`LANES`] trials simulated together (SPEC §6): the plant
+//! One block of [`LANES`] trials simulated together (docs/math.md §6): the plant
 //! x[k+1] = A_θ x + B_θ w + Σ_i ζ_i (A_i x + B_i w) + r, y = C_θ x + D_θ w + …, z = Cz x + Dz w + …
 //! (seed 003 (3.1) for the factors, seed 001 (1) for the modes), and every filter on the same y
 //! (common random numbers), s[k+1] = Af s + Bf y + Gf r, ẑ = Cf s + Df y, or in error coordinates

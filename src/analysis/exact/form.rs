@@ -1,4 +1,4 @@
-//! The error coordinates ε = s − M x of a realization that tracks M x (SPEC §0): where they keep
+//! The error coordinates ε = s − M x of a realization that tracks M x (docs/math.md §0): where they keep
 //! ε independent of x, the exact analysis and the Monte Carlo carry ε instead of s.
 
 use super::*;

@@ -1,4 +1,4 @@
-//! Exact second moments of a realization's error (SPEC §0, "exact" column): the augmented state
+//! Exact second moments of a realization's error (docs/math.md §0, "exact" column): the augmented state
 //! ξ = (x, s) obeys, in mode θ[k] = j (one mode for a plant that does not switch),
 //!
 //!     ξ[k+1] = F_j ξ[k] + E_j w[k] + c_j[k],   e[k] = z[k] − ẑ[k] = H_j ξ[k] + G_j w[k]
@@ -6,7 +6,7 @@
 //!     c_j = (r, Gf r),
 //!
 //! with the filter's gains those of mode j when it is mode-indexed. The exact error follows from
-//! per-mode raw moments m_j = E[ξ 1{θ = j}], Y_j = E[ξξᵀ 1{θ = j}] (seed 001 eq (10); SPEC §3: "one
+//! per-mode raw moments m_j = E[ξ 1{θ = j}], Y_j = E[ξξᵀ 1{θ = j}] (seed 001 eq (10); docs/math.md §3: "one
 //! recursion per mode"), propagated with the mode's matrices and mixed by Π, since θ[k+1] depends on
 //! the past only through θ[k]. Without modes this is the mean-plus-Lyapunov recursion
 //! Σ[k+1] = F Σ Fᵀ + E W Eᵀ; with dropouts (seed 003 (4.30)–(4.33), two independent modes) it gives
@@ -17,7 +17,7 @@
 //!
 //! The error is affine in the covariances K, and the backward (adjoint) recursion
 //! Λ_j[k] = H_jᵀH_j + F_jᵀ (Σ_i Π_ji Λ_i[k+1]) F_j gives ∂J/∂K for every block in one pass (seed 000
-//! eq (27), computed as SPEC §2 recommends).
+//! eq (27), computed as docs/math.md §2 recommends).
 
 mod form;
 mod propagate;

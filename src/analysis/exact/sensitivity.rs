@@ -1,11 +1,11 @@
 //! The error as a function of the covariances: its gradient by the adjoint recursion (seed 000 eq
-//! (27)), the second-moment operator, and the worst case over an uncertainty set (SPEC §2).
+//! (27)), the second-moment operator, and the worst case over an uncertainty set (docs/math.md §2).
 
 use super::*;
 use crate::numerics::linalg::weighted_sum;
 
 /// Λ = E[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w[0..N]) to col(e[k], k counted), the
-/// known input and x0's mean set aside (seed 003 §2, SPEC §5: "Λ for multiplicative noise is exact
+/// known input and x0's mean set aside (seed 003 §2, docs/math.md §5: "Λ for multiplicative noise is exact
 /// from second-moment recursions"), for modes independent over time with probabilities p_j (the
 /// dropout plant). With the backward second moment R_t = Σ_j p_j (H_jᵀH_j + F_jᵀ R_{t+1} F_j)
 /// (counted steps only for the H term), the means F̄ = Σ p_j F_j, Ē = Σ p_j E_j, and

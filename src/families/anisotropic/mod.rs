@@ -1,4 +1,4 @@
-//! The anisotropic suboptimal filters of seed 003 §4 (SPEC §5). The structures of §4.2 are in
+//! The anisotropic suboptimal filters of seed 003 §4 (docs/math.md §5). The structures of §4.2 are in
 //! [`structure`]; Theorem 1's LMIs, shared with the analysis check, in
 //! [`crate::analysis::theorem1`]. The bound is derived here for the dropout predictor (4.31)
 //!
@@ -15,7 +15,7 @@
 //! |||F|||_a ≤ γ (the Gibbs variational inequality at power 1/(1 − qγ²)). This is (4.21)–(4.24).
 //! With η = 1/q, P = ηR and Ψ(k) ⪯ ηS(k) it becomes the LMIs (4.34)–(4.37) (Schur complements;
 //! the printed `P(k+1)A1ᵀ` is P(k+1)A1) and, with lw = mw(N+1), the determinant condition in the
-//! convex form of SPEC §5:  η − γ² ≤ e^{−2a/lw} (∏_k det Ψ(k))^{1/lw}.
+//! convex form of docs/math.md §5:  η − γ² ≤ e^{−2a/lw} (∏_k det Ψ(k))^{1/lw}.
 //!
 //! **The change of variables.** P(k) = diag(P1(k), P2(k)) block diagonal makes (4.39)–(4.41) exact:
 //! P(k+1)A0 = [[P1'A, 0], [P2'A − Q2, Q2 − pY2Cy]], P(k+1)A1 = [[0, 0], [−Y2Cy, 0]],

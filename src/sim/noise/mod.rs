@@ -1,4 +1,4 @@
-//! Generators (SPEC §7, first part): which covariance the noise has ([`CovChoice`]), which
+//! Generators (docs/math.md §7, first part): which covariance the noise has ([`CovChoice`]), which
 //! distribution shape it is drawn with ([`Shape`]), and the per-trial sampler that scales i.i.d.
 //! unit-variance draws to that covariance exactly.
 

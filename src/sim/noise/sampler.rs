@@ -1,6 +1,6 @@
 //! The noise draw, a block of [`LANES`] trials at a time: x0 = m0 + L0 u0 and w[k] = Lw u[k] + w̄[k]
 //! for k = 0..N, with u i.i.d. of the scenario's shape and L Lᵀ equal to the scenario's covariance
-//! (SPEC §7), then the plant's mode θ[k] and its multiplicative factors ζ_i(k). Each lane draws its
+//! (docs/math.md §7), then the plant's mode θ[k] and its multiplicative factors ζ_i(k). Each lane draws its
 //! standardized scalars from its own trial's streams; the factors L are then applied to the whole
 //! block with one product per step. Factors are computed once per scenario; a block draws into a
 //! preallocated [`LaneDraw`] and allocates nothing.
