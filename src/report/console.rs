@@ -1,12 +1,11 @@
-//! The console table printed after each run. It fits 80 columns: numbers have four significant
-//! figures (the tables keep every digit), and a filter name longer than [`NAME`] characters gets a
-//! line of its own above its numbers.
+//! The console table printed after each run, drawn by comfy-table: numbers have four significant
+//! figures (the tables keep every digit) and the columns fit the filters' names, so a table of
+//! names up to about 30 characters fits 100 columns with nothing on a line of its own.
+
+use comfy_table::{CellAlignment, ContentArrangement, Table, presets};
 
 use crate::config::Experiment;
 use crate::pipeline::{RunOutcome, ScenarioOutcome};
-
-/// The width of the name column.
-const NAME: usize = 13;
 
 /// A number in at most 8 characters with four significant figures.
 fn num(x: f64) -> String {
@@ -37,17 +36,22 @@ fn z_score(mean: f64, se: f64, exact: f64) -> String {
     if z.abs() < 100.0 { format!("{z:.2}") } else { format!("{z:.0}") }
 }
 
-/// The name column: the name itself, or a line of its own and a blank column when it is too long.
-fn name_cell(name: &str) -> (String, String) {
-    if name.chars().count() <= NAME {
-        (String::new(), format!("{name:NAME$}"))
-    } else {
-        (format!("  {name}\n"), " ".repeat(NAME))
+/// A table of the run's figures drawn by comfy-table: no borders, every column as wide as its
+/// widest cell (names included, so nothing wraps), numbers right-aligned, indented by two spaces.
+fn grid(header: &[&str], rows: Vec<Vec<String>>) -> String {
+    let mut t = Table::new();
+    t.load_preset(presets::NOTHING).set_content_arrangement(ContentArrangement::Disabled).set_header(header.to_vec());
+    for r in rows {
+        t.add_row(r);
     }
+    for (i, c) in t.column_iter_mut().enumerate() {
+        c.set_cell_alignment(if i == 0 { CellAlignment::Left } else { CellAlignment::Right });
+    }
+    t.lines().map(|l| format!(" {}\n", l.trim_end())).collect()
 }
 
 /// Console width the tables are laid out for.
-const WIDTH: usize = 80;
+const WIDTH: usize = 100;
 
 /// `text` broken at spaces into lines of at most [`WIDTH`] characters (a longer word stays whole),
 /// continuation lines indented by `indent`; ends with a newline.
@@ -93,26 +97,24 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
         }
         s += "\n";
         s += &wrap(&head, "    ");
-        s += &format!(
-            "  {:NAME$}  {:>19}  {:>8}  {:>5}  {:>10}  {:>10}\n",
-            "filter", "empirical ± 95%", "exact", "z", "guaranteed", "worst case"
-        );
-        for (f, spec) in exp.filters.iter().enumerate() {
-            let st = &sc.mc.filters[f].total;
-            let half = st.ci95().1 - st.mean;
-            let ex = sc.exact[f].total;
-            let (above, name) = name_cell(&spec.name);
-            s += &above;
-            s += &format!(
-                "  {name}  {:>8} ± {:<8}  {:>8}  {:>5}  {:>10}  {:>10}\n",
-                num(st.mean),
-                num(half),
-                num(ex),
-                z_score(st.mean, st.std_error(), ex),
-                opt(sc.filters[f].guaranteed),
-                opt(out.filters[f].worst.as_ref().map(|w| w.total)),
-            );
-        }
+        let rows = exp
+            .filters
+            .iter()
+            .enumerate()
+            .map(|(f, spec)| {
+                let st = &sc.mc.filters[f].total;
+                let ex = sc.exact[f].total;
+                vec![
+                    spec.name.clone(),
+                    format!("{} ± {}", num(st.mean), num(st.ci95().1 - st.mean)),
+                    num(ex),
+                    z_score(st.mean, st.std_error(), ex),
+                    opt(sc.filters[f].guaranteed),
+                    opt(out.filters[f].worst.as_ref().map(|w| w.total)),
+                ]
+            })
+            .collect();
+        s += &grid(&["filter", "empirical ± 95%", "exact", "z", "guaranteed", "worst case"], rows);
         if gains {
             s += &gain_block(exp, out, sc);
         }
@@ -127,24 +129,23 @@ fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> Strin
     let a = sc.input_anisotropy.map_or("—".to_string(), |a| format!("{a:.3}"));
     let level = exp.anisotropy.map_or(String::new(), |a| format!(", norm² at a = {a}"));
     let mut s = format!("  mean-square gain, E|W|² = {:.3}, input anisotropy {a}{level}\n", sc.input_power);
-    s += &format!(
-        "  {:NAME$}  {:>19}  {:>8}  {:>10}  {:>8}  {:>8}\n",
-        "filter", "gain ± 95%", "exact", "noise only", "norm²_a", "γ²"
-    );
-    for (f, spec) in exp.filters.iter().enumerate() {
-        let d = &out.filters[f];
-        let g = sc.filters[f].gain;
-        let (above, name) = name_cell(&spec.name);
-        s += &above;
-        s += &format!(
-            "  {name}  {:>8} ± {:<8}  {:>8}  {:>10}  {:>8}  {:>8}\n",
-            opt(g.map(|g| g.empirical)),
-            opt(g.map(|g| g.ci_high - g.empirical)),
-            opt(g.map(|g| g.exact)),
-            opt(g.and_then(|g| g.exact_noise)),
-            opt(d.anisotropic.map(|x| x.norm_sq)),
-            opt(d.design.gain_bound.map(|g| g.gamma_sq)),
-        );
-    }
+    let rows = exp
+        .filters
+        .iter()
+        .enumerate()
+        .map(|(f, spec)| {
+            let d = &out.filters[f];
+            let g = sc.filters[f].gain;
+            vec![
+                spec.name.clone(),
+                g.map_or("—".to_string(), |g| format!("{} ± {}", num(g.empirical), num(g.ci_high - g.empirical))),
+                opt(g.map(|g| g.exact)),
+                opt(g.and_then(|g| g.exact_noise)),
+                opt(d.anisotropic.map(|x| x.norm_sq)),
+                opt(d.design.gain_bound.map(|g| g.gamma_sq)),
+            ]
+        })
+        .collect();
+    s += &grid(&["filter", "gain ± 95%", "exact", "noise only", "norm²_a", "γ² guaranteed"], rows);
     s
 }
