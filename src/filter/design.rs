@@ -82,14 +82,6 @@ impl GuaranteeKind {
             GuaranteeKind::Minimax => true,
         }
     }
-
-    /// Whether the per-step values are the error at the filter's design covariance (its P), so
-    /// that they are also what the filter claims its error is.
-    pub fn at_design_covariance(self) -> bool {
-        match self {
-            GuaranteeKind::ExactAtDesign | GuaranteeKind::Minimax => true,
-        }
-    }
 }
 
 /// The design figures other code reads back, typed. Each is set by the family that computes it;

@@ -56,7 +56,8 @@ pub struct Claimed {
 
 impl Claimed {
     fn of(plant: &Plant, design: &Design) -> Option<Claimed> {
-        let g = design.guarantee.as_ref().filter(|g| g.kind.at_design_covariance())?;
+        // Every guarantee kind is stated at the filter's design covariance (Kalman: its P; minimax: K̂).
+        let g = design.guarantee.as_ref()?;
         // A family that guarantees only the sum (minimax, seed 000 eq (22)) still claims its error at
         // its design covariance step by step.
         let per_step = if g.per_step.is_empty() {
