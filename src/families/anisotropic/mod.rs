@@ -322,14 +322,22 @@ pub const DENSE_NORM_MAX_INPUTS: usize = 1500;
 /// [`accuracy::eigenvalue_error`] (|||F|||²_a is a weighted mean of them, so it moves by no more to
 /// first order); from Lemma 1's recursion, [`accuracy::recursion_error`].
 pub fn exact_norm_sq_with_error(plant: &Plant, real: &Realization, level: Level) -> Result<(f64, f64)> {
-    let value = exact_norm_sq(plant, real, level)?;
-    let lw = plant.nw() * plant.steps();
-    let error = if lw > DENSE_NORM_MAX_INPUTS {
-        accuracy::recursion_error(plant.steps(), plant.nx() + real.ns(), value)
-    } else {
-        accuracy::eigenvalue_error(&crate::analysis::anisotropy::error_gram(plant, real)?)
-    };
-    Ok((value, error))
+    if plant.nw() * plant.steps() > DENSE_NORM_MAX_INPUTS {
+        let value = exact_norm_sq(plant, real, level)?;
+        return Ok((value, accuracy::recursion_error(plant.steps(), plant.nx() + real.ns(), value)));
+    }
+    // The dense route: Λ formed once, for the norm and its error bound.
+    let gram = crate::analysis::anisotropy::error_gram(plant, real)?;
+    let value = dense_norm_sq(&gram, level)?;
+    Ok((value, accuracy::eigenvalue_error(&gram)))
+}
+
+/// |||F|||²_a from Λ's eigenvalues (seed 003 §2), a = ∞ giving λmax(Λ).
+fn dense_norm_sq(gram: &Mat, level: Level) -> Result<f64> {
+    Ok(match level {
+        Level::Anisotropy(a) => crate::analysis::anisotropy::anisotropic_norm(gram, a)?.0.value.powi(2),
+        Level::Hinf => crate::numerics::linalg::sym_eigen(gram)?.0.into_iter().fold(0.0, f64::max),
+    })
 }
 
 /// |||F|||²_a of a realization, a = ∞ giving ‖F‖∞² (seed 003 §2): the eigenvalues of Λ, or Lemma 1
@@ -338,10 +346,5 @@ pub fn exact_norm_sq(plant: &Plant, real: &Realization, level: Level) -> Result<
     if plant.nw() * plant.steps() > DENSE_NORM_MAX_INPUTS {
         return Ok(crate::analysis::lemma1::anisotropic_norm_riccati(plant, real, level.value())?.value.powi(2));
     }
-    Ok(match level {
-        Level::Anisotropy(a) => crate::analysis::anisotropy::realization_norm(plant, real, a)?.0.value.powi(2),
-        Level::Hinf => {
-            crate::numerics::linalg::sym_eigen(&crate::analysis::anisotropy::error_gram(plant, real)?)?.0.into_iter().fold(0.0, f64::max)
-        }
-    })
+    dense_norm_sq(&crate::analysis::anisotropy::error_gram(plant, real)?, level)
 }
