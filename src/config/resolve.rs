@@ -42,9 +42,19 @@ fn check_scenarios_before_design(plant: &Plant, nominal: &Covariances, scenarios
     Ok(())
 }
 
+/// Resolves a file, then refuses a filter whose family does not design for the plant
+/// ([`crate::families::Supports::check`]), before anything is designed.
+pub(super) fn resolve_file(name: &str, raw: ExperimentFile, text: &str) -> Result<Experiment> {
+    let exp = resolve_plant(name, raw, text)?;
+    for (i, f) in exp.filters.iter().enumerate() {
+        f.configured.supports().check(f.configured.family(), &exp.design_input(i))?;
+    }
+    Ok(exp)
+}
+
 /// Resolves a file, generating the plant and the nominal covariances first when it describes a
 /// string (seed 004) instead of giving matrices.
-pub(super) fn resolve_file(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Experiment> {
+fn resolve_plant(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Experiment> {
     let Some(sf) = raw.string.take() else {
         if raw.plant.is_none() {
             return Err(Error::invalid("plant", "missing: give [plant] or [string]"));

@@ -13,7 +13,7 @@ use serde::Deserialize;
 
 use super::hinf_lambda::check_setting;
 use super::kalman::design_at;
-use crate::filter::design::{Design, DesignInput, PerTrialBound};
+use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound, Record};
 use crate::error::Result;
 use crate::numerics::linalg::{Mat, psd_pinv, symmetrize};
 use crate::numerics::riccati;
@@ -42,12 +42,25 @@ pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
     out
 }
 
+/// The generalized H2 filter's own figure.
+#[derive(Debug, serde::Serialize)]
+pub struct H2Figures {
+    /// Seed 002: the generalized H2 level the filter is designed for.
+    pub h2_level: f64,
+}
+
+impl Record for H2Figures {}
+
 /// The family's entry: `family = "h2"`.
 pub struct H2;
 
 impl super::Family for H2 {
     const NAME: &'static str = "h2";
     type Params = Params;
+
+    fn supports(_: &Params) -> super::Supports {
+        super::hinf_lambda::SEED_002
+    }
 
     fn design(input: &DesignInput, _p: &Params) -> Result<Design> {
         check_setting(input, &format!("filters.{}", input.name), &None)?;
@@ -61,7 +74,7 @@ impl super::Family for H2 {
             .map(|(t, p)| symmetrize(&(cz(t) * p * cz(t).transpose())).symmetric_eigenvalues().max())
             .fold(0.0, f64::max);
         let mut design = design_at(input.plant, input.nominal.clone(), Pattern::Prediction);
-        design.figures.h2_level = Some(level);
+        design.figures = Figures::of(H2Figures { h2_level: level });
         design.per_trial = Some(PerTrialBound::Ellipsoid { weights });
         Ok(design)
     }

@@ -16,9 +16,8 @@ use serde::Deserialize;
 
 use super::hinf_sdp::{self, Choice};
 use crate::error::{Error, Result};
-use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound};
+use crate::filter::design::{Design, DesignInput, Figures, PerTrialBound, Record};
 use crate::filter::realization::{Gains, Realization};
-use crate::model::plant::Pattern;
 use crate::model::plant::{Covariances, Plant};
 use crate::numerics::linalg::{Mat, from_rows, min_eigenvalue, symmetrize};
 use crate::numerics::solve::line::bisect;
@@ -144,19 +143,23 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
     Realization::state_estimator(plant.x0_mean.clone(), steps)
 }
 
-/// Checks that the plant and weights fit seed 002's setting; returns S.
+/// Seed 002's setting: a predictor on a plant with deterministic matrices (no dropouts, modes or
+/// multiplicative noise); they may change with the step (§5).
+pub const SEED_002: super::Supports = super::Supports {
+    patterns: super::PREDICTION,
+    dropouts: false,
+    markov_modes: false,
+    multiplicative: false,
+    time_varying: true,
+    varying_weights: false,
+    needs_string: false,
+    narrowed_by: None,
+};
+
+/// Checks that the weights fit seed 002's setting (the plant's features are [`SEED_002`]); returns S.
 pub fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
     let p = input.plant;
     let n = p.nx();
-    if p.random_matrices() {
-        return Err(Error::invalid(key, "seed 002's setting has deterministic matrices: no dropouts, modes or plant.multiplicative"));
-    }
-    if input.pattern != Pattern::Prediction {
-        return Err(Error::invalid(
-            key,
-            "the H∞-λ filter is a predictor: the experiment's pattern must be \"prediction\"",
-        ));
-    }
     if (0..p.steps()).any(|k| p.dz_at(k).amax() != 0.0) {
         return Err(Error::invalid(key, "seed 002's plant has z = Cz x: plant.Dz must be zero"));
     }
@@ -185,6 +188,15 @@ pub fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f
     Ok(s)
 }
 
+/// The H∞-λ filter's own figure.
+#[derive(Debug, serde::Serialize)]
+pub struct HinfFigures {
+    /// Seed 002: the H∞ norm² of the designed filter.
+    pub hinf_norm_squared: f64,
+}
+
+impl Record for HinfFigures {}
+
 /// The family's entry: `family = "hinf"`.
 pub struct HinfLambda;
 
@@ -192,12 +204,25 @@ impl super::Family for HinfLambda {
     const NAME: &'static str = "hinf";
     type Params = Params;
 
+    fn supports(_: &Params) -> super::Supports {
+        SEED_002
+    }
+
+    fn check(p: &Params) -> std::result::Result<(), (&'static str, String)> {
+        if p.method == Method::Riccati && p.sdp_filter.is_some() {
+            return Err(("sdp_filter", "applies only with method = \"sdp\"".into()));
+        }
+        Ok(())
+    }
+
+    /// Its norm checks build the dense operator over the whole horizon.
+    fn footprint(_: &Params, plant: super::PlantSize) -> super::Footprint {
+        super::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
+    }
+
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
         let key = format!("filters.{}", input.name);
         let s = check_setting(input, &key, &p.terminal_weight)?;
-        if p.method == Method::Riccati && p.sdp_filter.is_some() {
-            return Err(Error::invalid(format!("{key}.sdp_filter"), "applies only with method = \"sdp\""));
-        }
         let mut diagnostics = serde_json::Map::new();
         let mut min = || match p.method {
             Method::Riccati => lambda_min(input.plant, &input.nominal, &s),
@@ -257,7 +282,7 @@ impl super::Family for HinfLambda {
         diagnostics.insert("sdp_seconds".into(), seconds.into());
         Ok(Design {
             per_trial: Some(PerTrialBound::Ratio { bound: lambda, terminal_weight: s }),
-            figures: Figures { hinf_norm_squared: Some(norm2), ..Figures::default() },
+            figures: Figures::of(HinfFigures { hinf_norm_squared: norm2 }),
             ..Design::new(realization, diagnostics)
         })
     }

@@ -14,14 +14,13 @@
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput};
-use crate::error::{Error, Result};
+use crate::filter::design::{Design, DesignInput, Figures};
+use crate::error::Result;
 use crate::numerics::linalg::{psd_pinv, symmetrize};
 use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
-use crate::model::plant::Pattern;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -37,26 +36,21 @@ impl super::Family for Intermittent {
     const NAME: &'static str = "intermittent";
     type Params = Params;
 
+    /// A predictor for dropouts (plant.arrival), not general Markov modes or multiplicative noise.
+    fn supports(_: &Params) -> super::Supports {
+        super::Supports {
+            patterns: super::PREDICTION,
+            markov_modes: false,
+            multiplicative: false,
+            ..super::Supports::ALL
+        }
+    }
+
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        if input.pattern != Pattern::Prediction {
-            return Err(Error::design(
-                input.name,
-                "the intermittent-observation filter is a predictor: set pattern = \"prediction\"",
-            ));
-        }
-        if !input.plant.factors.is_empty() {
-            return Err(Error::design(input.name, "the intermittent-observation filter models dropouts, not multiplicative noise on the matrices"));
-        }
-        if input.plant.switches() && input.plant.arrival().is_none() {
-            return Err(Error::design(
-                input.name,
-                "the intermittent-observation filter covers dropouts (plant.arrival), not general Markov modes",
-            ));
-        }
         let cov = super::own_design_point(input, &p.design, "this filter")?;
         let (realization, predicted) = predictor(input.plant, &cov);
         let mut design = super::exact_at_design(input.plant, realization, cov, serde_json::Map::new());
-        design.figures.riccati_summed_error = Some(predicted);
+        design.figures = Figures::of(super::Predicted { riccati_summed_error: predicted });
         Ok(design)
     }
 }

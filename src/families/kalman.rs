@@ -73,6 +73,12 @@ impl super::Family for Kalman {
     const NAME: &'static str = "kalman";
     type Params = Params;
 
+    /// Any plant: on one with modes, dropouts or factors it is designed on the base (or
+    /// mode-averaged) matrices and promises nothing; its surrogate may vary with the step.
+    fn supports(_: &Params) -> super::Supports {
+        super::Supports { varying_weights: true, ..super::Supports::ALL }
+    }
+
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
         let cov = super::own_design_point(input, &p.design, "a Kalman filter")?;
         if p.plant == PlantChoice::ModeAveraged {

@@ -19,14 +19,13 @@
 
 use serde::Deserialize;
 
-use crate::filter::design::{Design, DesignInput, TraceRow};
+use crate::filter::design::{Design, DesignInput, Figures, TraceRow};
 use crate::error::{Error, Result};
 use crate::numerics::linalg::{Mat, symmetrize, weighted_sum};
 use crate::numerics::riccati;
 use crate::model::plant::{Covariances, Modes, Plant};
 use crate::filter::realization::{Gains, Realization};
 use crate::model::choice::CovChoiceFile;
-use crate::model::plant::Pattern;
 
 #[derive(Deserialize, Default, Clone, Copy, PartialEq, Debug)]
 #[serde(rename_all = "snake_case")]
@@ -56,25 +55,29 @@ impl super::Family for MarkovJump {
     const NAME: &'static str = "markov_jump";
     type Params = Params;
 
+    /// A predictor (seed 001 (6)) on noise-free matrices. The finite-horizon recursion (15)–(16)
+    /// reads each step's matrices; the stationary gains are fixed points of constant ones.
+    fn supports(p: &Params) -> super::Supports {
+        super::Supports {
+            patterns: super::PREDICTION,
+            multiplicative: false,
+            time_varying: p.gains == GainsKind::Finite,
+            narrowed_by: match p.gains {
+                GainsKind::Finite => None,
+                GainsKind::Steady => Some(("gains", "steady")),
+                GainsKind::Common => Some(("gains", "common")),
+            },
+            ..super::Supports::ALL
+        }
+    }
+
+    /// One set of gains per mode and the mode-averaged one.
+    fn footprint(_: &Params, plant: super::PlantSize) -> super::Footprint {
+        super::Footprint { state: plant.nx, gain_sets: plant.modes + 1, dense_horizon: false }
+    }
+
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
         let name = input.name;
-        if input.pattern != Pattern::Prediction {
-            return Err(Error::design(
-                name,
-                "the Markov-jump filter (seed 001 (6)) is a predictor: set pattern = \"prediction\"",
-            ));
-        }
-        // The finite-horizon recursion (15)–(16) reads each step's matrices; the stationary gains
-        // are fixed points of constant ones.
-        if !input.plant.factors.is_empty() {
-            return Err(Error::design(name, "the Markov-jump filter needs noise-free matrices (no plant.multiplicative)"));
-        }
-        if input.plant.time_varying() && p.gains != GainsKind::Finite {
-            return Err(Error::design(
-                name,
-                "stationary Markov-jump gains (gains = \"steady\" or \"common\") need constant matrices: use gains = \"finite\" on a time-varying plant",
-            ));
-        }
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
         };
@@ -106,7 +109,9 @@ impl super::Family for MarkovJump {
         };
         let predicted = (p.gains == GainsKind::Finite).then(|| finite(plant, &cov).1);
         let mut design = Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) };
-        design.figures.riccati_summed_error = predicted;
+        if let Some(p) = predicted {
+            design.figures = Figures::of(super::Predicted { riccati_summed_error: p });
+        }
         Ok(design)
     }
 }

@@ -20,7 +20,7 @@
 use serde::Deserialize;
 
 use super::kalman::kalman;
-use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, LineSearch, TraceRow};
+use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, LineSearch, Record, TraceRow};
 use crate::error::{Error, Result};
 use crate::analysis::exact;
 use crate::numerics::accuracy;
@@ -67,6 +67,20 @@ pub struct DualSolution {
     pub largest_element: bool,
 }
 
+/// The minimax filter's own figures.
+#[derive(Debug, serde::Serialize)]
+pub struct MinimaxFigures {
+    /// Seed 000 Algorithm 1: the duality gap δ(s) at the last iteration.
+    pub final_gap: f64,
+    /// Seed 000 Theorem 1.2: which condition (a: a largest element; b: R_z(K̂) ≻ 0) makes the
+    /// filter at K̂ minimax, or that neither does.
+    pub theorem_1_2: &'static str,
+    /// λmin(R_z(K̂)) / λmax, Theorem 1.2b's condition.
+    pub rz_min_eigenvalue: f64,
+}
+
+impl Record for MinimaxFigures {}
+
 /// The family's entry: `family = "minimax"`.
 pub struct Minimax;
 
@@ -74,24 +88,29 @@ impl super::Family for Minimax {
     const NAME: &'static str = "minimax";
     type Params = Params;
 
-    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let key = format!("filters.{}", input.name);
+    /// Theorem 3's saddle point rests on the Kalman filter being optimal at every K, which
+    /// multiplicative noise breaks; the surrogate of a disturbance may vary with the step.
+    fn supports(_: &Params) -> super::Supports {
+        super::Supports { multiplicative: false, varying_weights: true, ..super::Supports::ALL }
+    }
+
+    fn check(p: &Params) -> std::result::Result<(), (&'static str, String)> {
         if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
-            return Err(Error::invalid(format!("{key}.tolerance"), "must be a positive number"));
+            return Err(("tolerance", "must be a positive number".into()));
         }
         if p.max_iterations == 0 {
-            return Err(Error::invalid(format!("{key}.max_iterations"), "must be at least 1"));
-        }
-        if !input.has_sets() {
-            return Err(Error::design(input.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
-        }
-        if !input.plant.factors.is_empty() {
-            // Theorem 3's saddle point rests on the Kalman filter being optimal at every K, which
-            // multiplicative noise breaks.
-            return Err(Error::design(input.name, "the minimax design (seed 000) needs a plant without plant.multiplicative"));
+            return Err(("max_iterations", "must be at least 1".into()));
         }
         if matches!(p.start, CovChoiceFile::WorstFor { .. } | CovChoiceFile::DesignOf { .. }) {
-            return Err(Error::invalid(format!("{key}.start"), "Algorithm 1 cannot start at another filter's covariance"));
+            return Err(("start", "Algorithm 1 cannot start at another filter's covariance".into()));
+        }
+        Ok(())
+    }
+
+    fn design(input: &DesignInput, p: &Params) -> Result<Design> {
+        let key = format!("filters.{}", input.name);
+        if !input.has_sets() {
+            return Err(Error::design(input.name, "the minimax family needs an uncertainty set: add [sets.BLOCK]"));
         }
         let start = input.design_point(&format!("{key}.start"), &p.start, true)?;
         let sol = dual_solve(input.plant, input.pattern, input.sets, start, p.tolerance, p.max_iterations)
@@ -126,12 +145,7 @@ impl super::Family for Minimax {
             (false, true) => "b: R_z(K̂) ≻ 0",
             (false, false) => "neither a nor b: K̂ maximizes I, but the filter at K̂ is not proven minimax",
         };
-        let figures = Figures {
-            final_gap: Some(sol.gap),
-            theorem_1_2: Some(theorem_1_2.into()),
-            rz_min_eigenvalue: Some(rz_min),
-            ..Figures::default()
-        };
+        let figures = Figures::of(MinimaxFigures { final_gap: sol.gap, theorem_1_2, rz_min_eigenvalue: rz_min });
         Ok(Design {
             realization,
             // Only the sum is guaranteed (eq (22)): F̂'s per-step error at K̂ is what it claims at its

@@ -84,40 +84,62 @@ impl GuaranteeKind {
     }
 }
 
-/// The design figures other code reads back, typed. Each is set by the family that computes it;
-/// the manifest lists them under `diagnostics` beside [`Design::diagnostics`]' extras.
-#[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct Figures {
-    /// Seed 000 Algorithm 1: the duality gap δ(s) at the last iteration (minimax).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub final_gap: Option<f64>,
-    /// Seed 000 Theorem 1.2: which condition (a: a largest element; b: R_z(K̂) ≻ 0) makes the
-    /// filter at K̂ minimax, or that neither does (minimax).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub theorem_1_2: Option<String>,
-    /// λmin(R_z(K̂)) / λmax, Theorem 1.2b's condition (minimax).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rz_min_eigenvalue: Option<f64>,
-    /// The summed error the design's Riccati recursion predicts (intermittent, Markov-jump).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub riccati_summed_error: Option<f64>,
-    /// Seed 002: the H∞ norm² of the designed filter (hinf_lambda).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub hinf_norm_squared: Option<f64>,
-    /// Seed 002: the generalized H2 level the filter is designed for (h2).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h2_level: Option<f64>,
-    /// Seed 004: the filter's place in the Galerkin sweep.
-    #[serde(flatten, skip_serializing_if = "Option::is_none")]
-    pub galerkin: Option<GalerkinPoint>,
+/// A typed record the reports format without knowing its type: its JSON for the manifest, and the
+/// numbers it names for the summary table. A family's design figures ([`Figures`]) and its analysis
+/// of a finished run are records; whoever knows the type reads it back with [`Record::as_any`].
+pub trait Record: ToJson + AsAny + std::fmt::Debug + Send + Sync {
+    /// The numbers shown as summary columns, `figure_<name>` (none unless the family asks).
+    fn summary(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
 }
 
-/// A Galerkin filter's basis, number of modes n and regularization α (seed 004).
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct GalerkinPoint {
-    pub basis: String,
-    pub n: usize,
-    pub alpha: f64,
+/// A record's JSON (every `Serialize` type has one).
+pub trait ToJson {
+    fn json(&self) -> serde_json::Value;
+}
+
+impl<T: serde::Serialize> ToJson for T {
+    fn json(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or_default()
+    }
+}
+
+/// A record as `Any`, to read it back as its type.
+pub trait AsAny {
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+impl<T: std::any::Any> AsAny for T {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// A family's own design figures, typed by the family ([`Figures::of`]) and read back as that
+/// type ([`Figures::get`]); the manifest lists their fields under `diagnostics`.
+#[derive(Clone, Debug, Default)]
+pub struct Figures(Option<std::sync::Arc<dyn Record>>);
+
+impl Figures {
+    pub fn of(record: impl Record + 'static) -> Self {
+        Figures(Some(std::sync::Arc::new(record)))
+    }
+    /// The figures as the family's type `T`, if they are one.
+    pub fn get<T: 'static>(&self) -> Option<&T> {
+        self.0.as_deref()?.as_any().downcast_ref()
+    }
+    /// The fields, as the manifest lists them (none when the family has no figures).
+    pub fn json(&self) -> serde_json::Map<String, serde_json::Value> {
+        match self.0.as_deref().map(ToJson::json) {
+            Some(serde_json::Value::Object(m)) => m,
+            _ => serde_json::Map::new(),
+        }
+    }
+    /// The numbers for the summary table ([`Record::summary`]).
+    pub fn summary(&self) -> Vec<(&'static str, f64)> {
+        self.0.as_deref().map(Record::summary).unwrap_or_default()
+    }
 }
 
 /// One iteration of an iterative design (seed 000 Algorithm 1: s, I(K(s)), the gap δ(s), the step
@@ -153,7 +175,7 @@ pub struct Design {
     pub trace: Vec<TraceRow>,
     /// The first line searches of the design procedure, sampled (minimax: seed 000 Fig. 1).
     pub line_searches: Vec<LineSearch>,
-    /// The figures read back by other code or tests ([`Figures`]).
+    /// The family's own figures ([`Figures`]).
     pub figures: Figures,
     /// Anything else worth keeping in the manifest (solver figures, timings, …); nothing reads
     /// these back.
@@ -183,9 +205,7 @@ impl Design {
     /// The manifest's `diagnostics`: the typed [`Figures`] and the extras in one JSON object.
     pub fn manifest_diagnostics(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut all = self.diagnostics.clone();
-        if let Ok(serde_json::Value::Object(typed)) = serde_json::to_value(&self.figures) {
-            all.extend(typed);
-        }
+        all.extend(self.figures.json());
         all
     }
 }

@@ -41,17 +41,13 @@ pub fn estimate(exp: &Experiment) -> Estimate {
     let (nx, ny, nz, nw) = (p.nx() as u64, p.ny() as u64, p.nz() as u64, p.nw() as u64);
     let nf = exp.filters.len() as u64;
     let nsc = exp.scenarios.len() as u64;
-    let q = p.n_modes().max(1) as u64;
-    // A filter's state has the plant's size in every family but the Galerkin one (2n: n positions
-    // and their velocities); a mode-indexed filter keeps one set of gains per mode and one more.
-    // Each entry as a number; the rows of gains.parquet are built one filter at a time.
+    // Each family states its filter's state size and gain sets ([`crate::families::Footprint`]);
+    // each entry as a number; the rows of gains.parquet are built one filter at a time.
+    let size = crate::families::PlantSize { nx: p.nx(), modes: p.n_modes().max(1) };
+    let footprints: Vec<_> = exp.filters.iter().map(|f| f.configured.footprint(size)).collect();
     let (mut design, mut rows) = (0u64, 0u64);
-    for f in &exp.filters {
-        let ns = match (f.family.as_str(), f.params.get("n").and_then(toml::Value::as_integer)) {
-            ("galerkin", Some(n)) if n > 0 => 2 * n as u64,
-            _ => nx,
-        };
-        let sets = if f.family == "markov_jump" { q + 1 } else { 1 };
+    for fp in &footprints {
+        let (ns, sets) = (fp.state as u64, fp.gain_sets as u64);
         let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
         // Each of the five matrices of a step is its own allocation.
         design = design.saturating_add(sat(&[steps, sets, entries.saturating_mul(8).saturating_add(5 * MATRIX)]));
@@ -64,7 +60,7 @@ pub fn estimate(exp: &Experiment) -> Estimate {
     let table = sat(&[nsc, nf, steps, STEP_ROW + RECORDED]);
     let traj = sat(&[nsc, exp.sample_trajectories as u64, nf + 1, nz, steps, 8]);
     let dense = exp.anisotropy.is_some()
-        || exp.filters.iter().any(|f| f.family == "anisotropic" || f.family == "hinf")
+        || footprints.iter().any(|f| f.dense_horizon)
         || exp.scenarios.iter().any(|s| s.input != Input::Independent);
     let dense_side = if dense { nx.saturating_add(nw.saturating_mul(steps)) } else { 0 };
     let dense_bytes = sat(&[3, dense_side, dense_side, 8]);

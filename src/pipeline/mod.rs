@@ -5,8 +5,8 @@
 pub mod bench;
 pub mod budget;
 pub mod design;
-pub mod discrepancy;
 pub mod evaluate;
+pub mod findings;
 pub mod outcome;
 pub mod scenarios;
 
@@ -64,9 +64,11 @@ fn run_inner(exp: &Experiment, show_progress: bool, given: Option<(&str, Vec<Par
     }
     bar.finish_and_clear();
     drop(engine);
+    let findings = findings::after_run(exp, &filters, &scenarios)?;
     Ok(RunOutcome {
         filters,
         scenarios,
+        findings,
         threads: rayon::current_num_threads(),
         design_seconds,
         total_seconds: start.elapsed().as_secs_f64(),

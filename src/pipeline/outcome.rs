@@ -13,6 +13,8 @@ use super::design::DesignedFilter;
 pub struct RunOutcome {
     pub filters: Vec<DesignedFilter>,
     pub scenarios: Vec<ScenarioOutcome>,
+    /// What the families add to the finished run ([`crate::families::Family::after_run`]).
+    pub findings: Vec<crate::families::Finding>,
     pub threads: usize,
     pub design_seconds: f64,
     pub total_seconds: f64,

@@ -75,6 +75,11 @@ fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<
     (scenarios, filters)
 }
 
+/// What the families found on the run ([`crate::families::Finding`]), per family.
+fn findings_json(out: &RunOutcome) -> serde_json::Map<String, serde_json::Value> {
+    out.findings.iter().map(|f| (f.family.to_string(), f.record.json())).collect()
+}
+
 /// Writes the manifest of the runs of one experiment: the first run's scenarios and filters at the
 /// top level, and with variants one entry per variant under `variants`.
 pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &Path) -> Result<()> {
@@ -88,7 +93,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &
             serde_json::json!({
                 "variant": e.variant, "arrival": e.plant.arrival(), "anisotropy": e.anisotropy,
                 "design_seconds": o.design_seconds, "total_seconds": o.total_seconds,
-                "scenarios": scenarios, "filters": filters,
+                "scenarios": scenarios, "filters": filters, "findings": findings_json(o),
             })
         })
         .collect();
@@ -109,6 +114,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &
         "total_seconds": runs.iter().map(|(_, o)| o.total_seconds).sum::<f64>(),
         "scenarios": scenarios,
         "filters": filters,
+        "findings": findings_json(out),
         "variants": variants,
         "experiment_file": exp.source,
     });

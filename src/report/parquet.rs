@@ -200,7 +200,28 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     if exp.per_trial {
         super::trials::add_quantiles(&mut df, out)?;
     }
+    add_figures(&mut df, out)?;
     Ok(df)
+}
+
+/// One column `figure_NAME` per figure a family shows in the summary
+/// ([`crate::filter::design::Record::summary`]), in the order the filters first give them; null
+/// for a filter without it. The built-in families show none, so their tables keep their columns.
+fn add_figures(df: &mut DataFrame, out: &RunOutcome) -> Result<()> {
+    let figures: Vec<Vec<(&'static str, f64)>> = out.filters.iter().map(|d| d.design.figures.summary()).collect();
+    let mut names: Vec<&'static str> = Vec::new();
+    for (name, _) in figures.iter().flatten() {
+        if !names.contains(name) {
+            names.push(name);
+        }
+    }
+    for name in names {
+        let per_filter: Vec<Option<f64>> =
+            figures.iter().map(|f| f.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)).collect();
+        let values: Vec<Option<f64>> = out.scenarios.iter().flat_map(|_| per_filter.iter().copied()).collect();
+        df.with_column(col(&format!("figure_{name}"), values)).map_err(|e| Error::output("summary table", e))?;
+    }
+    Ok(())
 }
 
 #[derive(Default)]

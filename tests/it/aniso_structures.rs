@@ -172,10 +172,11 @@ fn structures_refuse_what_breaks_their_conditions() {
     let filter = |s: &str| {
         format!("[[filters]]\nname = \"f\"\nfamily = \"anisotropic\"\nanisotropy = 1.0\nstructure = \"{s}\"\n")
     };
-    // A structure that uses y(k) in a prediction experiment.
+    // A structure that uses y(k) in a prediction experiment: refused when the file is loaded.
     for s in ["static", "gamma_zero", "gamma_mean"] {
-        let err = pipeline::design_all(&plant("prediction", 8, NOISE, &filter(s))).err().expect("refused").to_string();
-        assert!(err.contains("pattern = \"filtering\"") && err.contains(s), "{err}");
+        let text = plant_text("prediction", 8, false, NOISE, &filter(s), SCENARIOS);
+        let err = filterbench::config::parse("s", "s.toml", &text).err().expect("refused").to_string();
+        assert!(err.contains("pattern = \"filtering\"") && err.contains(&format!("structure = \"{s}\"")), "{err}");
     }
     // The static filter cannot follow a known input.
     let input = "known_input = { kind = \"sine\", amplitude = [0.0, 0.2], frequency = 0.05 }\n";

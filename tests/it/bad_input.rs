@@ -195,8 +195,8 @@ fn bad_time_varying_disturbances() {
     );
     let only_weights = text.patch("energy = 0.4\n", "").patch("step_energy", "# step_energy");
     fails_cleanly(&only_weights, &["disturbances.u", "needs `energy`"]);
-    let h2 = text.patch("family = \"minimax\"\ntolerance = 1e-10", "family = \"h2\"");
-    fails_cleanly(&h2, &["minimax", "time-varying weights", "only kalman and minimax"]);
+    let aniso = text.patch("family = \"minimax\"\ntolerance = 1e-10", "family = \"anisotropic\"\nanisotropy = 0.5");
+    fails_cleanly(&aniso, &["minimax", "time-varying weights", "kalman or minimax"]);
 }
 
 #[test]
@@ -220,7 +220,7 @@ fn bad_dropouts_anisotropy_and_variants() {
     let static_filter = "anisotropy = 20.0\nstructure = \"static\"\n\n[[filters]]\nname = \"h2";
     fails_cleanly(
         &base.patch("anisotropy = 20.0\n\n[[filters]]\nname = \"h2", static_filter),
-        &["anisotropic", "structure \"static\"", "pattern = \"filtering\""],
+        &["anisotropic", "structure = \"static\"", "pattern = \"filtering\""],
     );
     fails_cleanly(
         &base.patch(
@@ -268,7 +268,10 @@ fn invalid_markov_chains() {
         &base.patch(pi, "transition = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]"),
         &["modes.initial", "stationary"],
     );
-    fails_cleanly(&base.patch("pattern = \"prediction\"", "pattern = \"filtering\""), &["mode_dependent", "predictor"]);
+    fails_cleanly(
+        &base.patch("pattern = \"prediction\"", "pattern = \"filtering\""),
+        &["mode_dependent", "pattern = \"prediction\""],
+    );
 }
 
 #[test]

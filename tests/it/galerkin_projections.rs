@@ -6,6 +6,7 @@
 use std::collections::BTreeMap;
 
 use filterbench::analysis::exact;
+use filterbench::families::galerkin::alpha::{Pilot, choose_alpha};
 use filterbench::families::galerkin::{Basis, realization};
 use filterbench::numerics::linalg::{Mat, min_eigenvalue};
 
@@ -124,7 +125,9 @@ fn discrepancy_rule_for_alpha() {
             let r = realization(model, exp.plant.horizon, Basis::Eigen, n, a).expect("well conditioned");
             exact::error(&exp.plant, &r, &exp.nominal).total / exp.plant.steps() as f64
         };
-        let c = filterbench::pipeline::discrepancy::choose_alpha(&exp, Basis::Eigen, n, &alphas).unwrap();
+        let y = filterbench::pipeline::findings::pilot_record(&exp);
+        let pilot = Pilot { model, plant: &exp.plant, nominal: &exp.nominal, y: &y };
+        let c = choose_alpha(&pilot, Basis::Eigen, n, &alphas).unwrap();
         let (best_alpha, best) =
             alphas.iter().map(|a| (*a, err(*a))).min_by(|x, y| x.1.total_cmp(&y.1)).expect("a grid");
         let chosen = c.exact / exp.plant.steps() as f64;

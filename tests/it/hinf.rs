@@ -4,7 +4,8 @@ use crate::common::Patch;
 
 use filterbench::analysis::hinf;
 use filterbench::config::{self, Experiment, Pattern};
-use filterbench::families::hinf_lambda::{lambda_min, predictor, recursion};
+use filterbench::families::h2::H2Figures;
+use filterbench::families::hinf_lambda::{HinfFigures, lambda_min, predictor, recursion};
 use filterbench::families::kalman::kalman;
 use filterbench::numerics::accuracy;
 use filterbench::numerics::linalg::{Mat, Vector};
@@ -88,8 +89,8 @@ fn too_small_lambda_and_wrong_settings_are_refused() {
     let err = pipeline::design_all(&e).err().expect("λ = 1 is infeasible").to_string();
     assert!(err.contains("hinf_7.5") && err.contains("too small") && err.contains("step 0"), "{err}");
     let filt = text.patch("pattern = \"prediction\"", "pattern = \"filtering\"");
-    let err = pipeline::design_all(&config::parse("h", "h.toml", &filt).unwrap()).err().unwrap().to_string();
-    assert!(err.contains("predictor"), "{err}");
+    let err = config::parse("h", "h.toml", &filt).err().expect("refused when loaded").to_string();
+    assert!(err.contains("does not design for the filtering pattern"), "{err}");
     let corr = text.patch("D = [[0.0, 0.0, 0.0, 0.5]]", "D = [[0.3, 0.0, 0.0, 0.5]]");
     let err = pipeline::design_all(&config::parse("h", "h.toml", &corr).unwrap()).err().unwrap().to_string();
     assert!(err.contains("noise split"), "{err}");
@@ -104,7 +105,7 @@ fn no_trial_violates_the_guarantee() {
     let out = pipeline::run(&exp, false).unwrap();
     let mut checked = 0;
     for (f, spec) in exp.filters.iter().enumerate() {
-        let Some(norm2) = out.filters[f].design.figures.hinf_norm_squared else {
+        let Some(norm2) = out.filters[f].design.figures.get::<HinfFigures>().map(|x| x.hinf_norm_squared) else {
             continue;
         };
         let Some(sc) = out.scenarios.iter().find(|s| s.name == format!("worst_for_{}", spec.name)) else { continue };
@@ -245,7 +246,7 @@ fn generalized_h2_norm_of_every_filter() {
     let exp = crate::common::load("hinf_tradeoff", 10);
     let filters = filterbench::pipeline::design_all(&exp).unwrap();
     let h2 = exp.filter_index("h2").unwrap();
-    let level = filters[h2].design.figures.h2_level.unwrap();
+    let level = filters[h2].design.figures.get::<H2Figures>().unwrap().h2_level;
     let own = filters[h2].generalized_h2_sq.unwrap();
     assert!((own - level).abs() <= 1e-9 * level, "h2 filter: {own} vs its level {level}");
     for (spec, f) in exp.filters.iter().zip(&filters) {

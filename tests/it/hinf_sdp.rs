@@ -167,7 +167,7 @@ fn the_family_parameters() {
         assert!(d <= 1e-4, "step {t}: SDP gain differs from Riccati's by {d} of the largest");
     }
     let ms = e.filter_index("hinf_7.5_min_storage").unwrap();
-    let n2 = a[ms].design.figures.hinf_norm_squared.unwrap();
+    let n2 = a[ms].design.figures.get::<filterbench::families::hinf_lambda::HinfFigures>().unwrap().hinf_norm_squared;
     assert!(n2 <= 7.5 && n2 >= 7.5 * (1.0 - 1e-6), "min-storage norm² {n2}: λ itself, from below");
     for (bad, needles) in [
         (

@@ -147,7 +147,7 @@ fn mode_dependent_beats_common_gain_beats_mode_averaged_kalman() {
         assert!(md <= st && md <= cg && cg <= ka, "{v}: the ordering fails");
         // The finite-horizon gains are those of the coupled Riccati recursion: its prediction is exact.
         let d = &out[exp.filter_index("mode_dependent").unwrap()].design;
-        let predicted = d.figures.riccati_summed_error.unwrap();
+        let predicted = d.figures.get::<filterbench::families::Predicted>().unwrap().riccati_summed_error;
         assert!((predicted - md).abs() <= 1e-9 * md);
     }
 }

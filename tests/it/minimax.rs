@@ -105,7 +105,7 @@ fn saddle_point_and_smallest_worst_case() {
         let k_hat = d.design_covariance.as_ref().unwrap();
         let i_hat = dual_value(&exp.plant, exp.pattern, k_hat);
         let worst = filters[m].worst.as_ref().unwrap().total;
-        let gap = d.figures.final_gap.unwrap();
+        let gap = d.figures.get::<filterbench::families::minimax::MinimaxFigures>().unwrap().final_gap;
         assert!(worst >= i_hat - 1e-9 * i_hat, "{name}: worst {worst} < I(K̂) {i_hat}");
         assert!(
             worst - i_hat <= gap + 1e-9 * i_hat,
@@ -331,8 +331,8 @@ fn theorem_1_2b_condition_is_checked() {
         let exp = load(name, 10);
         let filters = pipeline::design_all(&exp).unwrap();
         let d = &filters[exp.filter_index("minimax").unwrap()].design.figures;
-        let which = d.theorem_1_2.as_deref().unwrap();
-        let rz = d.rz_min_eigenvalue.unwrap();
+        let d = d.get::<filterbench::families::minimax::MinimaxFigures>().unwrap();
+        let (which, rz) = (d.theorem_1_2, d.rz_min_eigenvalue);
         if name == "minimax_example1" {
             assert!(which.starts_with("a:"), "{name}: {which}");
         } else {

@@ -8,7 +8,6 @@
 use filterbench::analysis::exact;
 use filterbench::config::{self, Experiment};
 use filterbench::model::plant::Pattern;
-use filterbench::pipeline;
 
 /// One matrix per step k = 0..N as TOML, `f(k)` giving its rows.
 fn steps(n: usize, f: impl Fn(usize) -> Vec<Vec<f64>>) -> String {
@@ -201,8 +200,13 @@ fn markov_modes_on_a_time_varying_plant() {
 fn constant_matrix_designs_refuse_time_varying_plants() {
     let mj = "[[filters]]\nname = \"m\"\nfamily = \"markov_jump\"\ngains = \"steady\"\n";
     let text = plant_text("prediction", 10, true, "arrival = 0.9", mj, "[[scenarios]]\nname = \"n\"\n");
-    let err = pipeline::design_all(&parse(&text)).err().expect("refused").to_string();
-    assert!(err.contains("constant matrices") && err.contains("gains = \"finite\""), "{err}");
+    // Refused when the file is loaded, by the one capability check (families::Supports).
+    let err = config::parse("tv", "tv.toml", &text).err().expect("refused").to_string();
+    assert!(
+        err.contains("markov_jump family does not design for matrices that change")
+            && err.contains("constant matrices"),
+        "{err}"
+    );
     let short = plant_text("prediction", 10, true, "", PREDICTION, "[[scenarios]]\nname = \"n\"\n").replacen(
         "A_steps = [",
         "A_steps = [[[0.9, 0.0], [0.0, 0.9]], ",

@@ -32,7 +32,7 @@ use crate::analysis::theorem1;
 use crate::error::{Error, Result};
 use crate::filter::design::{Design, DesignInput};
 use crate::filter::realization::Realization;
-use crate::model::plant::{Measurement, Pattern, Plant};
+use crate::model::plant::Plant;
 use crate::numerics::accuracy;
 use crate::numerics::linalg::Mat;
 use crate::numerics::solve::conic::{Failure, Tuning};
@@ -59,6 +59,18 @@ pub struct Params {
     structure: Structure,
 }
 
+impl Params {
+    /// The design's level: a ≥ 0 finite, or ∞ for "inf".
+    fn level(&self) -> std::result::Result<Level, String> {
+        match &self.anisotropy {
+            LevelFile::Value(a) if *a >= 0.0 && a.is_finite() => Ok(Level::Anisotropy(*a)),
+            LevelFile::Name(s) if s == "inf" => Ok(Level::Hinf),
+            LevelFile::Value(a) => Err(format!("must be finite and ≥ 0, or \"inf\"; got {a}")),
+            LevelFile::Name(s) => Err(format!("must be a number ≥ 0 or \"inf\"; got \"{s}\"")),
+        }
+    }
+}
+
 fn default_structure() -> Structure {
     Structure::Predictor
 }
@@ -70,14 +82,28 @@ impl super::Family for Anisotropic {
     const NAME: &'static str = "anisotropic";
     type Params = Params;
 
+    /// Seed 003's noise is independent over time: dropouts and multiplicative factors, not Markov
+    /// modes. A structure that uses y(k) through G needs the filtering pattern.
+    fn supports(p: &Params) -> super::Supports {
+        super::Supports {
+            patterns: if p.structure.filtering() { super::FILTERING } else { super::ANY_PATTERN },
+            markov_modes: false,
+            narrowed_by: p.structure.filtering().then(|| ("structure", p.structure.name())),
+            ..super::Supports::ALL
+        }
+    }
+
+    fn check(p: &Params) -> std::result::Result<(), (&'static str, String)> {
+        p.level().map(|_| ()).map_err(|why| ("anisotropy", why))
+    }
+
+    /// Λ, the design's and the checks' operator over the whole horizon, is dense.
+    fn footprint(_: &Params, plant: super::PlantSize) -> super::Footprint {
+        super::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
+    }
+
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let key = format!("filters.{}.anisotropy", input.name);
-        let level = match p.anisotropy.clone() {
-            LevelFile::Value(a) if a >= 0.0 && a.is_finite() => Level::Anisotropy(a),
-            LevelFile::Name(s) if s == "inf" => Level::Hinf,
-            LevelFile::Value(a) => return Err(Error::invalid(key, format!("must be finite and ≥ 0, or \"inf\"; got {a}"))),
-            LevelFile::Name(s) => return Err(Error::invalid(key, format!("must be a number ≥ 0 or \"inf\"; got \"{s}\""))),
-        };
+        let level = p.level().map_err(|why| Error::invalid(input.key("anisotropy"), why))?;
         check_setting(input, p.structure)?;
         let checked = synthesize_checked(input.plant, p.structure, level).map_err(|e| Error::design(input.name, e))?;
         let syn = &checked.synthesis;
@@ -118,25 +144,16 @@ impl super::Family for Anisotropic {
     }
 }
 
-/// The setting of seed 003 §4: x(0) known (zero covariance, (4.7)), every step counted and
-/// measured, noise independent over time (dropouts, factors; not Markov modes), and the structure's
-/// own conditions: a structure that uses y(k) needs the filtering pattern, and the static filter
-/// ẑ = G y (§4.2.2) cannot see x(0)'s mean or the known input.
+/// The setting of seed 003 §4 beyond the plant's features ([`Anisotropic::supports`]): x(0) known
+/// (zero covariance, (4.7)), every step counted and measured, and the static filter ẑ = G y
+/// (§4.2.2) cannot see x(0)'s mean or the known input.
 fn check_setting(input: &DesignInput, structure: Structure) -> Result<()> {
     let name = input.name;
     let p = input.plant;
-    let s = structure.name();
-    let problem = if structure.filtering() && input.pattern != Pattern::Filtering {
-        Some(format!(
-            "structure \"{s}\" ({}) estimates z(k) from y(k) through G: set pattern = \"filtering\" (or use structure \"predictor\")",
-            structure.section()
-        ))
-    } else if input.nominal.x0().amax() != 0.0 {
+    let problem: Option<String> = if input.nominal.x0().amax() != 0.0 {
         Some("the anisotropic theory takes x(0) known (seed 003 (4.7)): set nominal.x0 to zero".into())
     } else if p.sum_from != 0 || p.first_measurement != 0 {
         Some("the anisotropic design (seed 003 §4) needs sum_from = 0 and first_measurement = 0".into())
-    } else if matches!(p.measurement, Measurement::Markov(_)) {
-        Some("seed 003's noise is independent over time: the anisotropic design covers dropouts (plant.arrival) and multiplicative factors, not Markov modes".into())
     } else if structure == Structure::Static && (p.x0_mean.amax() != 0.0 || !p.known_input.is_empty()) {
         Some("the static filter ẑ = G y (§4.2.2, x̂ ≡ 0) cannot follow x(0)'s mean or the known input: remove plant.x0_mean and plant.known_input, or use another structure".into())
     } else {

@@ -1,8 +1,8 @@
 //! Seed 004's views: the exact error over (basis, n, α) and the string's profile along ξ.
 
 use super::{RecResult, Run, style};
-use crate::families::galerkin::Basis;
-use crate::pipeline::discrepancy::choose_alpha;
+use crate::families::galerkin::GalerkinPoint;
+use crate::families::galerkin::sweep::Sweep;
 
 /// A Galerkin filter's place in the sweep.
 pub struct Point {
@@ -16,7 +16,7 @@ pub struct Point {
 pub fn points(run: &Run) -> Vec<Point> {
     (0..run.exp.filters.len())
         .filter_map(|f| {
-            let g = run.out.filters[f].design.figures.galerkin.as_ref()?;
+            let g = run.out.filters[f].design.figures.get::<GalerkinPoint>()?;
             Some(Point { filter: f, basis: g.basis.clone(), n: g.n, alpha: g.alpha })
         })
         .collect()
@@ -42,7 +42,8 @@ pub fn write(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
     let ns = sorted(pts.iter().map(|p| p.n).collect());
     let alphas = sorted(pts.iter().map(|p| p.alpha).collect::<Vec<f64>>());
     let steps = run.exp.plant.steps() as f64;
-    for sc in &run.out.scenarios {
+    let sweep = run.out.findings.iter().find_map(|f| f.get::<Sweep>());
+    for (i, sc) in run.out.scenarios.iter().enumerate() {
         let err = |p: &Point| sc.exact[p.filter].total / steps;
         // Grouped bars: one group per α (largest first, as the regularization weakens), one bar per
         // n inside it, one colour per α.
@@ -61,7 +62,9 @@ pub fn write(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
             }
         }
         let mut table = surface_table(&pts, &ns, &alphas, &err);
-        table.push_str(&optimum_and_alpha_rule(run, &pts, &|f| sc.exact[f].total / steps));
+        if let Some(sweep) = sweep {
+            table.push_str(&optimum_and_alpha_rule(sweep, &sc.name, i, steps));
+        }
         rec.log_static(run.at(&["galerkin", &sc.name, "surface_table"]), &rerun::TextDocument::from_markdown(table))?;
         // The string along ξ at every step of the first sample trial: the truth and the finest
         // filter (largest n, then smallest α) against the coarsest at the same α and basis.
@@ -97,40 +100,27 @@ pub fn write(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
 
 /// Below the surface: m(z) (a `kalman` filter on the string is the Kalman filter of the exact
 /// truth, seed 004 Theorem 3's optimum) with the gap of the best Galerkin filter to it, and per
-/// (basis, n) the α the discrepancy principle chooses from one record against the sweep's best.
-fn optimum_and_alpha_rule(run: &Run, pts: &[Point], err: &dyn Fn(usize) -> f64) -> String {
+/// (basis, n) the α the discrepancy principle chooses from one record against the sweep's best
+/// ([`Sweep`], computed by the pipeline).
+fn optimum_and_alpha_rule(sweep: &Sweep, scenario: &str, i: usize, steps: f64) -> String {
     let mut s = String::new();
-    let steps = run.exp.plant.steps() as f64;
-    let best = pts.iter().map(|p| err(p.filter)).fold(f64::INFINITY, f64::min);
-    for (f, spec) in run.exp.filters.iter().enumerate().filter(|(_, f)| f.family == "kalman") {
-        let opt = err(f);
+    for o in sweep.optimum.iter().filter(|o| o.scenario == scenario) {
         s.push_str(&format!(
-            "\n**m(z)** (`{}`, the Kalman filter of the exact truth): {opt:.6}; the best Galerkin filter is {:.3e} above it (relative)\n",
-            spec.name,
-            (best - opt) / opt
+            "\n**m(z)** (`{}`, the Kalman filter of the exact truth): {:.6}; the best Galerkin filter is {:.3e} above it (relative)\n",
+            o.filter, o.error, o.best_galerkin_gap
         ));
     }
-    for basis in bases(pts) {
-        let kind = if basis == "hat" { Basis::Hat } else { Basis::Eigen };
-        for n in sorted(pts.iter().filter(|p| p.basis == basis).map(|p| p.n).collect()) {
-            let group: Vec<&Point> = pts.iter().filter(|p| p.basis == basis && p.n == n && p.alpha > 0.0).collect();
-            if group.len() < 3 {
-                continue;
-            }
-            let grid: Vec<f64> =
-                sorted(group.iter().map(|p| p.alpha).collect::<Vec<f64>>()).into_iter().rev().collect();
-            let Some(top) = group.iter().min_by(|a, b| err(a.filter).total_cmp(&err(b.filter))) else { continue };
-            match choose_alpha(run.exp, kind, n, &grid) {
-                Ok(c) => s.push_str(&format!(
-                    "\n{basis}, n = {n}: the discrepancy principle picks α = {:.2e} (D = {} on the sweep's α), exact error {:.6} at the nominal covariances; the sweep's smallest is {:.6} at α = {:e}\n",
-                    c.alpha,
-                    c.discrepancy.iter().map(|d| format!("{d:.3}")).collect::<Vec<_>>().join(", "),
-                    c.exact / steps,
-                    err(top.filter),
-                    top.alpha
-                )),
-                Err(e) => s.push_str(&format!("\n{basis}, n = {n}: no α by the discrepancy principle: {e}\n")),
-            }
+    for r in &sweep.alpha_rule {
+        let (basis, n) = (&r.basis, r.n);
+        let (best, best_alpha) = r.best[i];
+        match &r.choice {
+            Ok(c) => s.push_str(&format!(
+                "\n{basis}, n = {n}: the discrepancy principle picks α = {:.2e} (D = {} on the sweep's α), exact error {:.6} at the nominal covariances; the sweep's smallest is {best:.6} at α = {best_alpha:e}\n",
+                c.alpha,
+                c.discrepancy.iter().map(|d| format!("{d:.3}")).collect::<Vec<_>>().join(", "),
+                c.exact / steps,
+            )),
+            Err(e) => s.push_str(&format!("\n{basis}, n = {n}: no α by the discrepancy principle: {e}\n")),
         }
     }
     s

@@ -29,10 +29,14 @@
 //! coefficients (the first n rows for the eigenfunctions, M⁻¹(e_k, φ_i) for the hats); 0 at rest.
 //! The output is û(ξ_p) = Σ_i x̂_i φ_i(ξ_p).
 
+pub mod alpha;
+pub mod sweep;
+
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
-use crate::filter::design::{Design, DesignInput, Figures, GalerkinPoint};
+use super::{Finding, RunView};
+use crate::filter::design::{Design, DesignInput, Figures, Record};
 use crate::filter::realization::Realization;
 use crate::model::plant::Pattern;
 use crate::model::plant::{Covariances, Plant};
@@ -63,27 +67,32 @@ impl super::Family for Galerkin {
     const NAME: &'static str = "galerkin";
     type Params = Params;
 
+    /// The string of seed 004, observed up to t: the filtering pattern.
+    fn supports(_: &Params) -> super::Supports {
+        super::Supports { patterns: super::FILTERING, needs_string: true, ..super::Supports::ALL }
+    }
+
+    fn check(p: &Params) -> std::result::Result<(), (&'static str, String)> {
+        if p.n == 0 {
+            return Err(("n", "the number of basis functions must be at least 1".into()));
+        }
+        if !(p.alpha >= 0.0 && p.alpha.is_finite()) {
+            return Err(("alpha", format!("the regularization parameter must be ≥ 0, got {}", p.alpha)));
+        }
+        Ok(())
+    }
+
+    /// n positions and their velocities.
+    fn footprint(p: &Params, _: super::PlantSize) -> super::Footprint {
+        super::Footprint { state: 2 * p.n, gain_sets: 1, dense_horizon: false }
+    }
+
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
         let key = |k: &str| format!("filters.{}.{k}", input.name);
         let model = input
             .string
             .as_ref()
             .ok_or_else(|| Error::design(input.name, "the Galerkin filter needs a [string] plant (seed 004)"))?;
-        if input.pattern != Pattern::Filtering {
-            return Err(Error::design(
-                input.name,
-                "the Galerkin filter estimates u(t) from r up to t: set pattern = \"filtering\"",
-            ));
-        }
-        if p.n == 0 {
-            return Err(Error::invalid(key("n"), "the number of basis functions must be at least 1"));
-        }
-        if !(p.alpha >= 0.0 && p.alpha.is_finite()) {
-            return Err(Error::invalid(
-                key("alpha"),
-                format!("the regularization parameter must be ≥ 0, got {}", p.alpha),
-            ));
-        }
         let vanishes = (0..input.plant.steps()).any(|k| model.noise_scale(k) == 0.0);
         if p.alpha == 0.0 && (vanishes || min_eigenvalue(&model.w_m) <= 1e-12 * model.w_m.amax().max(1e-300)) {
             return Err(Error::invalid(
@@ -95,9 +104,32 @@ impl super::Family for Galerkin {
             .map_err(|(k, why)| Error::invalid(key("alpha"), ill_conditioned(k, why, p.alpha)))?;
         let mut diagnostics = serde_json::Map::new();
         diagnostics.insert("dt".into(), model.dt.into());
-        let basis = format!("{:?}", p.basis).to_lowercase();
-        let galerkin = Some(GalerkinPoint { basis, n: p.n, alpha: p.alpha });
-        Ok(Design { figures: Figures { galerkin, ..Figures::default() }, ..Design::new(realization, diagnostics) })
+        let point = GalerkinPoint { basis: p.basis.name().into(), n: p.n, alpha: p.alpha };
+        Ok(Design { figures: Figures::of(point), ..Design::new(realization, diagnostics) })
+    }
+
+    fn after_run(run: &RunView, mine: &[usize]) -> Result<Option<Finding>> {
+        sweep::analyze(run, mine)
+    }
+}
+
+/// A Galerkin filter's place in the sweep: its basis, number of modes n and regularization α.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GalerkinPoint {
+    pub basis: String,
+    pub n: usize,
+    pub alpha: f64,
+}
+
+impl Record for GalerkinPoint {}
+
+impl Basis {
+    /// The name experiment files use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Basis::Eigen => "eigen",
+            Basis::Hat => "hat",
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! innovations.
 //!
 //! A user has one record y[0..N] and the projected, regularized model of
-//! [`crate::families::galerkin::projected`]. Its Kalman filter predicts the innovations
+//! [`super::projected`]. Its Kalman filter predicts the innovations
 //! ν[k] = y[k] − C x̂[k|k−1] to have covariance S_α[k] = C P̄[k] Cᵀ + S_α/Δ, so the discrepancy
 //! D(α) = (1/(N m)) Σ_k ν[k]ᵀ S_α[k]⁻¹ ν[k] is ≈ 1 when the model explains the record. A large α
 //! pretends the noise is larger than it is (D < 1); as α → 0 the model believes the noise-free
@@ -13,22 +13,18 @@
 //! largest when D > 1 throughout.
 //!
 //! The record is one draw of the truth (Gaussian, the nominal covariances) from its own random
-//! stream, independent of every Monte Carlo trial.
+//! stream, independent of every Monte Carlo trial ([`super::super::RunView::pilot_record`]).
 
-use crate::config::Experiment;
+use super::{Basis, ill_conditioned, projected, realization};
 use crate::error::{Error, Result};
-use crate::families::galerkin::{Basis, ill_conditioned, projected, realization};
-use crate::model::shape::Shape;
+use crate::model::plant::{Covariances, Plant};
+use crate::model::string::StringModel;
 use crate::numerics::linalg::{Mat, Vector};
 use crate::numerics::riccati;
 use crate::numerics::solve::line::bisect;
-use crate::sim::noise::NoiseSampler;
-
-/// The stream index of the pilot record: no scenario has it.
-const PILOT_STREAM: usize = 1 << 40;
 
 /// The rule's outcome on a grid of α.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct AlphaChoice {
     /// The grid, as given.
     pub alphas: Vec<f64>,
@@ -41,28 +37,21 @@ pub struct AlphaChoice {
     pub exact: f64,
 }
 
-/// One record y[0..N] (column k = y[k]) of the experiment's truth, from the pilot stream.
-pub fn pilot_record(exp: &Experiment) -> Mat {
-    let plant = &exp.plant;
-    let sampler = NoiseSampler::new(plant, &exp.nominal, &Shape::Gaussian);
-    let mut draw = sampler.workspace();
-    sampler.draw_trial(exp.seed, PILOT_STREAM, 0, &mut draw);
-    let mut x = draw.x0.clone();
-    let mut y = Mat::zeros(plant.ny(), plant.steps());
-    for k in 0..plant.steps() {
-        let w = draw.w.column(k);
-        y.set_column(k, &(&*plant.c_at(k) * &x + &*plant.d_at(k) * w));
-        x = plant.a_at(k) * &x + plant.b_at(k) * w;
-    }
-    y
+/// The string experiment the rule works on: the string, its sampled plant, the nominal covariances
+/// and one record y[0..N] of the truth (column k = y[k]).
+pub struct Pilot<'a> {
+    pub model: &'a StringModel,
+    pub plant: &'a Plant,
+    pub nominal: &'a Covariances,
+    pub y: &'a Mat,
 }
 
 /// D(α) of the `basis`, `n` Galerkin filter on the record `y` (module docs). The innovation
 /// covariance is solved by Cholesky, as in the filter itself; a step it cannot solve accurately is
 /// refused under `key` ([`crate::families::galerkin::ill_conditioned`]).
-pub fn discrepancy(exp: &Experiment, y: &Mat, basis: Basis, n: usize, alpha: f64, key: &str) -> Result<f64> {
-    let model = exp.string.as_ref().expect("a string experiment");
-    let (fp, fcov) = projected(model, exp.plant.horizon, basis, n, alpha);
+pub fn discrepancy(r: &Pilot, basis: Basis, n: usize, alpha: f64, key: &str) -> Result<f64> {
+    let y = r.y;
+    let (fp, fcov) = projected(r.model, r.plant.horizon, basis, n, alpha);
     let (mut pbar, mut s) = (fcov.x0().clone(), Vector::zeros(fp.nx()));
     let mut sum = 0.0;
     for k in 0..y.ncols() {
@@ -81,15 +70,11 @@ pub fn discrepancy(exp: &Experiment, y: &Mat, basis: Basis, n: usize, alpha: f64
 }
 
 /// Morozov's rule on the grid `alphas` (module docs) for the `basis`, `n` Galerkin filter.
-pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) -> Result<AlphaChoice> {
-    if exp.string.is_none() {
-        return Err(Error::invalid("string", "the discrepancy rule for α needs a [string] plant (seed 004)"));
-    }
+pub fn choose_alpha(r: &Pilot, basis: Basis, n: usize, alphas: &[f64]) -> Result<AlphaChoice> {
     if alphas.iter().any(|a| !(*a > 0.0 && a.is_finite())) || alphas.windows(2).any(|w| w[1] >= w[0]) {
         return Err(Error::invalid("alphas", "a decreasing grid of α > 0"));
     }
-    let y = pilot_record(exp);
-    let d = alphas.iter().map(|a| discrepancy(exp, &y, basis, n, *a, "alphas")).collect::<Result<Vec<f64>>>()?;
+    let d = alphas.iter().map(|a| discrepancy(r, basis, n, *a, "alphas")).collect::<Result<Vec<f64>>>()?;
     let alpha = match d.iter().position(|v| *v > 1.0) {
         None => *alphas.last().expect("a grid"),
         Some(0) => alphas[0],
@@ -97,7 +82,7 @@ pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) ->
             // D crosses 1 between two grid points: bisect on log10 α to 0.01 decades. A refused
             // step inside the bracket stops the rule with its error, never a guessed side.
             let refused = std::cell::RefCell::new(None);
-            let d_above_one = |t: f64| match discrepancy(exp, &y, basis, n, 10f64.powf(t), "alphas") {
+            let d_above_one = |t: f64| match discrepancy(r, basis, n, 10f64.powf(t), "alphas") {
                 Ok(d) => d > 1.0,
                 Err(e) => {
                     refused.borrow_mut().get_or_insert(e);
@@ -111,9 +96,8 @@ pub fn choose_alpha(exp: &Experiment, basis: Basis, n: usize, alphas: &[f64]) ->
             10f64.powf(0.5 * (lo + hi))
         }
     };
-    let model = exp.string.as_ref().expect("checked above");
-    let filter = realization(model, exp.plant.horizon, basis, n, alpha)
+    let filter = realization(r.model, r.plant.horizon, basis, n, alpha)
         .map_err(|(k, why)| Error::invalid("alphas", ill_conditioned(k, why, alpha)))?;
-    let exact = crate::analysis::exact::error(&exp.plant, &filter, &exp.nominal).total;
+    let exact = crate::analysis::exact::error(r.plant, &filter, r.nominal).total;
     Ok(AlphaChoice { alphas: alphas.to_vec(), discrepancy: d, alpha, exact })
 }
