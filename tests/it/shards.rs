@@ -219,11 +219,10 @@ fn generate_aniso_dropout_shards() {
     let (dir, n, trials) = (PathBuf::from(var("FB_SCALE_DIR")), var("FB_SCALE_SHARDS"), var("FB_SCALE_TRIALS"));
     let (n, trials): (u64, usize) = (n.parse().unwrap(), trials.parse().unwrap());
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/aniso_dropout.toml");
-    let mut exps = filterbench::config::load_variants(&path).unwrap();
-    filterbench::config::apply_overrides(&mut exps, Some(trials), None).unwrap();
-    let overrides = filterbench::report::manifest::Overrides { trials: Some(trials), ..Default::default() };
+    let overrides = filterbench::config::Overrides { trials: Some(trials), ..Default::default() };
+    let exps = filterbench::config::load_variants(&path, &overrides).unwrap();
     let which: Vec<u64> = (0..n).collect();
-    filterbench::report::shards::run_shards(&exps, n, &which, &overrides, |i| {
+    filterbench::pipeline::shards::run_shards(&exps, n, &which, &overrides, |i| {
         let d = dir.join(format!("shard-{i}"));
         std::fs::create_dir_all(&d).unwrap();
         d
