@@ -184,6 +184,11 @@ fn merge_refuses_shards_that_do_not_belong() {
     // All shards agree, but not with the designs made again here.
     let (f0, f2) = (edit(&a0, "f0", &fp, &forged), edit(&a2, "f2", &fp, &forged));
     refused(&[&f0, &f1, &f2], &out, &["fingerprint", &forged]);
+    // All shards agree, but their trial count is not what their file and overrides build.
+    let (from, to) = ("\"overrides\": {\n    \"trials\": 200", "\"overrides\": {\n    \"trials\": 300");
+    let o: Vec<PathBuf> =
+        [&a0, &a1, &a2].iter().enumerate().map(|(i, d)| edit(d, &format!("o{i}"), from, to)).collect();
+    refused(&[&o[0], &o[1], &o[2]], &out, &["not its experiment file's with its overrides", s(&o[0])]);
     let o = run(&["merge", "--quiet", "--out", s(&a1), s(&a0), s(&a1), s(&a2)]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!((o.status.code(), err.trim_end().lines().count()), (Some(2), 1), "{err}");
