@@ -1,5 +1,6 @@
 //! Stage 3: each scenario evaluated: every filter's exact error (docs/math.md §4) and exact NEES, then the
-//! Monte Carlo on the same input (docs/math.md §6), gathered into the scenario's [`ScenarioOutcome`].
+//! Monte Carlo on the same input (docs/math.md §6) from the run's one [`super::MonteCarlo`] source,
+//! gathered into the scenario's [`ScenarioOutcome`].
 
 use std::time::Instant;
 
