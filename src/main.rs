@@ -4,8 +4,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use filterbench::config::Overrides;
 use filterbench::pipeline::RunOutcome;
-use filterbench::report::{self, manifest::Overrides, output};
+use filterbench::pipeline::shards;
+use filterbench::report::{self, manifest::CommandLine, output};
 use filterbench::{Result, config, experiment_path, list_experiments, pipeline};
 
 #[derive(Parser)]
@@ -79,11 +81,16 @@ struct RunOpts {
     threads: Option<usize>,
 }
 
-/// Every variant of the experiment, with the command-line overrides applied.
-fn load(name: &str, opts: &RunOpts) -> Result<Vec<config::Experiment>> {
-    let mut exps = config::load_variants(&experiment_path(name)?)?;
-    config::apply_overrides(&mut exps, opts.trials, opts.seed)?;
-    Ok(exps)
+impl RunOpts {
+    /// What these options set instead of the experiment file.
+    fn overrides(&self, per_trial: bool) -> Overrides {
+        Overrides { trials: self.trials, seed: self.seed, per_trial }
+    }
+}
+
+/// Every variant of the experiment, built from its file and the command line's `overrides`.
+fn load(name: &str, overrides: &Overrides) -> Result<Vec<config::Experiment>> {
+    config::load_variants(&experiment_path(name)?, overrides)
 }
 
 /// Claims the output place before any work (nothing of the user's is replaced), runs `work` into
@@ -101,7 +108,7 @@ fn publish(target: &Path, work: impl FnOnce(&Path) -> Result<()>) -> Result<()> 
 fn report_runs(
     runs: &[(&config::Experiment, &RunOutcome)],
     dir: &Path,
-    overrides: &Overrides,
+    overrides: &CommandLine,
     quiet: bool,
 ) -> Result<()> {
     report::write_all(runs, dir, overrides)?;
@@ -144,11 +151,9 @@ fn main_inner(cli: Cli) -> Result<()> {
             }
         }
         Command::Experiment { name, opts, out, quiet, shard, per_trial } => {
-            let mut exps = load(&name, &opts)?;
-            let shard = shard.as_deref().map(report::shards::parse_shard).transpose()?;
-            for e in &mut exps {
-                e.per_trial = per_trial;
-            }
+            let overrides = opts.overrides(per_trial);
+            let exps = load(&name, &overrides)?;
+            let shard = shard.as_deref().map(shards::parse_shard).transpose()?;
             let default = match shard {
                 Some((i, n)) => format!("{}-shard-{i}-of-{n}", exps[0].name),
                 None => exps[0].name.clone(),
@@ -156,7 +161,7 @@ fn main_inner(cli: Cli) -> Result<()> {
             let target = out.clone().unwrap_or_else(|| PathBuf::from("results").join(default));
             let pool = pool(opts.threads)?;
             filterbench::pipeline::budget::check(&exps)?;
-            let overrides = Overrides {
+            let command_line = CommandLine {
                 trials: opts.trials,
                 seed: opts.seed,
                 threads: opts.threads,
@@ -164,8 +169,7 @@ fn main_inner(cli: Cli) -> Result<()> {
             };
             publish(&target, |dir| match shard {
                 Some((i, n)) => {
-                    let meta =
-                        pool.install(|| report::shards::run_shards(&exps, n, &[i], &overrides, |_| dir.into()))?;
+                    let meta = pool.install(|| shards::run_shards(&exps, n, &[i], &overrides, |_| dir.into()))?;
                     if let (Some(m), false) = (meta, quiet) {
                         println!("shard {i}/{n}: blocks {}..{} of every scenario", m.blocks[0], m.blocks[1]);
                     }
@@ -175,22 +179,23 @@ fn main_inner(cli: Cli) -> Result<()> {
                     let outcomes =
                         exps.iter().map(|e| pool.install(|| pipeline::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
                     let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
-                    report_runs(&runs, dir, &overrides, quiet)
+                    report_runs(&runs, dir, &command_line, quiet)
                 }
             })?;
             if !quiet {
                 println!("\nresults: {}", target.display());
             }
         }
-        Command::Merge { shards, out, threads, quiet } => {
+        Command::Merge { shards: dirs, out, threads, quiet } => {
             let pool = pool(threads)?;
-            let checked = report::shards::check(&shards, &out)?;
-            let overrides =
-                Overrides { threads, out: Some(out.display().to_string()), ..checked.meta.overrides.clone() };
+            let checked = shards::check(&dirs, &out)?;
+            let given = &checked.meta.overrides;
+            let command_line =
+                CommandLine { trials: given.trials, seed: given.seed, threads, out: Some(out.display().to_string()) };
             publish(&out, |dir| {
-                let outcomes = pool.install(|| report::shards::merge(&checked))?;
+                let outcomes = pool.install(|| shards::merge(&checked))?;
                 let runs: Vec<_> = checked.exps.iter().zip(&outcomes).collect();
-                report_runs(&runs, dir, &overrides, quiet)
+                report_runs(&runs, dir, &command_line, quiet)
             })?;
             if !quiet {
                 println!("\nresults: {}", out.display());
@@ -198,7 +203,7 @@ fn main_inner(cli: Cli) -> Result<()> {
         }
         Command::Bench { name, opts } => {
             let p = pool(opts.threads)?;
-            let exps = load(&name, &opts)?;
+            let exps = load(&name, &opts.overrides(false))?;
             filterbench::pipeline::budget::check(&exps)?;
             for exp in exps {
                 print!("{}", p.install(|| pipeline::bench::run(&exp))?);

@@ -161,9 +161,6 @@ impl Experiment {
         }
         out
     }
-    pub fn has_disturbances(&self) -> bool {
-        self.disturbances.iter().any(Option::is_some)
-    }
     pub fn filter_index(&self, name: &str) -> Option<usize> {
         filter_index(&self.filters, name)
     }
@@ -209,25 +206,21 @@ pub fn check_trials(key: &str, trials: usize) -> Result<()> {
 }
 
 /// The one rule for `sample_trajectories`: at most one per trial, so a value above the trial count
-/// (from the file, or after `--trials` lowered it) keeps every trial's trajectory.
+/// (the file's, or `--trials`) keeps every trial's trajectory.
 pub fn sample_count(sample_trajectories: usize, trials: usize) -> usize {
     sample_trajectories.min(trials)
 }
 
-/// The command line's `--trials` and `--seed`, applied to every variant (a lower trial count also
-/// lowers `sample_trajectories`, [`sample_count`]).
-pub fn apply_overrides(exps: &mut [Experiment], trials: Option<usize>, seed: Option<u64>) -> Result<()> {
-    for exp in exps {
-        if let Some(t) = trials {
-            check_trials("--trials", t)?;
-            exp.trials = t;
-            exp.sample_trajectories = sample_count(exp.sample_trajectories, t);
-        }
-        if let Some(s) = seed {
-            exp.seed = s;
-        }
-    }
-    Ok(())
+/// What the command line sets instead of the file: `--trials`, `--seed` and `--per-trial`. The
+/// loader takes them ([`load_variants`]) and validates them with the file, so the command line
+/// builds the experiment it runs and no [`Experiment`] changes after validation. A shard records
+/// them so that `merge` builds the same experiments again.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Overrides {
+    pub trials: Option<usize>,
+    pub seed: Option<u64>,
+    pub per_trial: bool,
 }
 
 /// Reads and validates an experiment file. `name` is the experiment's name (the file stem).
@@ -239,16 +232,17 @@ pub fn load(path: &Path) -> Result<Experiment> {
 
 /// Reads an experiment file and returns one experiment per `[[variants]]` entry: the file with the
 /// entry's keys merged in (tables key by key, anything else replaced), named by its `name`. A file
-/// without variants gives itself. The base file must be valid on its own.
-pub fn load_variants(path: &Path) -> Result<Vec<Experiment>> {
+/// without variants gives itself. The base file must be valid on its own. The command line's
+/// `overrides` apply to every variant.
+pub fn load_variants(path: &Path, overrides: &Overrides) -> Result<Vec<Experiment>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
-    variants_of(&name, &path.display().to_string(), &text)
+    variants_of(&name, &path.display().to_string(), &text, overrides)
 }
 
 /// [`load_variants`] of experiment text: `name` is the experiment's name, `file` only for messages.
-pub fn variants_of(name: &str, file: &str, text: &str) -> Result<Vec<Experiment>> {
-    let base = parse(name, file, text)?;
+pub fn variants_of(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Vec<Experiment>> {
+    let base = parse_with(name, file, text, overrides)?;
     let file = file.to_string();
     let mut doc: toml::Table =
         toml::from_str(&base.source).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
@@ -277,7 +271,7 @@ pub fn variants_of(name: &str, file: &str, text: &str) -> Result<Vec<Experiment>
                 file: file.clone(),
                 message: format!("variant `{name}`: key `{}`: {}", e.path(), e.inner().message().trim()),
             })?;
-        let mut exp = resolve_file(&base.name, raw, &base.source)
+        let mut exp = resolve_file(&base.name, raw, &base.source, overrides)
             .map_err(|e| Error::Parse { file: file.clone(), message: format!("variant `{name}`: {e}") })?;
         exp.variant = Some(name);
         out.push(exp);
@@ -302,9 +296,14 @@ fn merge(doc: &mut toml::Table, patch: toml::Table) {
 
 /// Parses experiment text; `file` is only used in messages.
 pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
+    parse_with(name, file, text, &Overrides::default())
+}
+
+/// [`parse`] with the command line's `overrides`.
+pub fn parse_with(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Experiment> {
     check_name("experiment name", name)?;
     let raw: ExperimentFile = deserialize(file, text)?;
-    resolve_file(name, raw, text)
+    resolve_file(name, raw, text, overrides)
 }
 
 /// The one-line description of an experiment file, for `filterbench list` (None if unreadable).

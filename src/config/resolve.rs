@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use super::plant::{plant, plant_matrices};
 use super::schema::*;
-use super::{Experiment, FilterSpec, Input, Scenario, check_name, check_trials, filter_index, sample_count};
+use super::{Experiment, FilterSpec, Input, Overrides, Scenario, check_name, check_trials, filter_index, sample_count};
 use crate::analysis::anisotropy::gaussian_anisotropy;
 use crate::error::{Error, Result};
 use crate::model::choice::CovChoice;
@@ -44,8 +44,8 @@ fn check_scenarios_before_design(plant: &Plant, nominal: &Covariances, scenarios
 
 /// Resolves a file, then refuses a filter whose family does not design for the plant
 /// ([`crate::families::Supports::check`]), before anything is designed.
-pub(super) fn resolve_file(name: &str, raw: ExperimentFile, text: &str) -> Result<Experiment> {
-    let exp = resolve_plant(name, raw, text)?;
+pub(super) fn resolve_file(name: &str, raw: ExperimentFile, text: &str, overrides: &Overrides) -> Result<Experiment> {
+    let exp = resolve_plant(name, raw, text, overrides)?;
     for (i, f) in exp.filters.iter().enumerate() {
         f.configured.supports().check(f.configured.family(), &exp.design_input(i))?;
     }
@@ -53,13 +53,14 @@ pub(super) fn resolve_file(name: &str, raw: ExperimentFile, text: &str) -> Resul
 }
 
 /// Resolves a file, generating the plant and the nominal covariances first when it describes a
-/// string (seed 004) instead of giving matrices.
-fn resolve_plant(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Experiment> {
+/// string (seed 004) instead of giving matrices. The command line's `overrides` replace the file's
+/// values once the file itself is valid.
+fn resolve_plant(name: &str, mut raw: ExperimentFile, text: &str, overrides: &Overrides) -> Result<Experiment> {
     let Some(sf) = raw.string.take() else {
         if raw.plant.is_none() {
             return Err(Error::invalid("plant", "missing: give [plant] or [string]"));
         }
-        return resolve(name, raw, text);
+        return resolve(name, raw, text, overrides);
     };
     if raw.plant.is_some() || !raw.nominal.is_empty() || raw.modes.is_some() {
         return Err(Error::invalid(
@@ -95,7 +96,7 @@ fn resolve_plant(name: &str, mut raw: ExperimentFile, text: &str) -> Result<Expe
     for (n, m) in plant.block_names().iter().zip(&cov.blocks) {
         raw.nominal.insert(n.to_string(), rows(m));
     }
-    let mut exp = resolve(name, raw, text)?;
+    let mut exp = resolve(name, raw, text, overrides)?;
     // Time-varying intensities enter through B[k], D[k] (model::string): carried over as they are,
     // not through `B_steps`/`D_steps` rows (a full matrix per step for a large truth).
     if plant.b.varies() || plant.d.varies() {
@@ -125,7 +126,7 @@ pub(super) fn deserialize<T: serde::de::DeserializeOwned>(file: &str, text: &str
     })
 }
 
-fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> {
+fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides) -> Result<Experiment> {
     let p = f.plant.as_ref().expect("resolve_file checked the plant");
     if p.horizon == 0 {
         return Err(Error::invalid("plant.horizon", "the horizon N must be at least 1"));
@@ -144,16 +145,21 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str) -> Result<Experiment> 
         }
     }
     check_scenarios_before_design(&plant, &nominal, &scenarios)?;
+    // The command line's values, checked by the same rule as the file's but named by their flag.
+    let trials = match overrides.trials {
+        Some(t) => check_trials("--trials", t).map(|_| t)?,
+        None => f.trials,
+    };
 
     Ok(Experiment {
         name: name.to_string(),
         variant: None,
         description: f.description,
-        seed: f.seed,
-        trials: f.trials,
+        seed: overrides.seed.unwrap_or(f.seed),
+        trials,
         pattern: f.pattern,
-        sample_trajectories: sample_count(f.sample_trajectories, f.trials),
-        per_trial: false,
+        sample_trajectories: sample_count(f.sample_trajectories, trials),
+        per_trial: overrides.per_trial,
         anisotropy: f.anisotropy,
         plant,
         nominal,

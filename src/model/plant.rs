@@ -67,10 +67,6 @@ impl Steps {
     pub fn varies(&self) -> bool {
         self.0.len() > 1
     }
-    /// The matrix, when it is the same at every step (designs for time-invariant plants).
-    pub fn constant_value(&self) -> Option<&Mat> {
-        (self.0.len() == 1).then(|| &self.0[0])
-    }
     pub fn nrows(&self) -> usize {
         self.0[0].nrows()
     }

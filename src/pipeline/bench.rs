@@ -1,7 +1,7 @@
 //! `filterbench bench`: throughput of the Monte Carlo engine on every scenario of an experiment,
 //! and where one thread's time goes (drawing, simulation, statistics). Measured, not asserted. Each
-//! scenario is set up and simulated exactly as `experiment` runs it ([`super::scenarios::setup`],
-//! [`super::evaluate::Engine`]).
+//! scenario is designed, set up and simulated exactly as `experiment` runs it, through the same
+//! stages ([`super::design_all`], [`super::each_scenario`]); only the timed loops are its own.
 
 use std::fmt::Write;
 use std::time::Instant;
@@ -11,12 +11,8 @@ use crate::error::Result;
 use crate::sim::block::{self, Workspace};
 use crate::sim::montecarlo::{self, BLOCK, Scenario};
 
-use super::evaluate::{Engine, exact_errors};
-
 pub fn run(exp: &Experiment) -> Result<String> {
     let filters = super::design_all(exp)?;
-    let covs = super::scenario_covariances(exp, &filters)?;
-    let engine = Engine::new(exp, &filters);
     let trials = exp.trials as u64;
     let mut s = String::new();
     let _ = writeln!(
@@ -30,12 +26,10 @@ pub fn run(exp: &Experiment) -> Result<String> {
         rayon::current_num_threads(),
         BLOCK,
     );
-    for (i, cov) in covs.iter().enumerate() {
-        let setup = super::scenarios::setup(exp, &filters, i, cov)?;
-        let (_, forms) = exact_errors(&engine, &setup)?;
-        let sc = engine.scenario(&setup, i, &forms);
-        let _ = write!(s, "{}", scenario(&sc, &exp.scenarios[i].name, trials));
-    }
+    let lines = super::each_scenario(exp, &filters, |engine, p| {
+        Ok(scenario(&p.scenario(engine), &exp.scenarios[p.index].name, trials))
+    })?;
+    s.extend(lines);
     Ok(s)
 }
 

@@ -1,5 +1,6 @@
 //! Stage 3: each scenario evaluated: every filter's exact error (docs/math.md §4) and exact NEES, then the
-//! Monte Carlo on the same input (docs/math.md §6), gathered into the scenario's [`ScenarioOutcome`].
+//! Monte Carlo on the same input (docs/math.md §6) from the run's one [`super::MonteCarlo`] source,
+//! gathered into the scenario's [`ScenarioOutcome`].
 
 use std::time::Instant;
 
@@ -92,31 +93,64 @@ pub fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, 
     Ok((exact, forms))
 }
 
-/// Evaluates scenario `index` from its `setup`: exact first (a filter whose error double
-/// precision cannot resolve is refused before its Monte Carlo runs), then the Monte Carlo and
-/// sample trajectories with the noise-free output they scatter around, the exact NEES (seed 001
-/// §3) and the input's power and anisotropy. The Monte Carlo is run here over every block, or
-/// `given` (a merge's shards, every block's nodes).
-pub fn evaluate(
-    engine: &Engine,
-    setup: Setup,
-    index: usize,
-    bar: &ProgressBar,
-    given: Option<Partial>,
-) -> Result<ScenarioOutcome> {
+/// The Monte Carlo statistics of [`super::MonteCarlo`], scenario by scenario.
+pub(super) enum Source {
+    Run(ProgressBar),
+    Merged(std::vec::IntoIter<Partial>),
+}
+
+impl Source {
+    /// The source `mc`; a merge's shards are refused unless they ran the designs of `ours`.
+    pub(super) fn new(exp: &Experiment, mc: super::MonteCarlo, ours: impl FnOnce() -> String) -> Result<Self> {
+        Ok(match mc {
+            super::MonteCarlo::Run { progress } => Source::Run(progress_bar(exp.trials as u64, progress)),
+            super::MonteCarlo::Merged { fingerprint, partials } => {
+                super::same_designs(&fingerprint, &ours())?;
+                Source::Merged(partials.into_iter())
+            }
+        })
+    }
+
+    /// Shows scenario `index` of `count` on the progress bar.
+    pub(super) fn start(&self, index: usize, count: usize, name: &str) {
+        if let Source::Run(bar) = self {
+            bar.reset();
+            bar.set_message(format!("scenario {}/{count} {name}", index + 1));
+        }
+    }
+
+    /// Every block's tree nodes and per-trial J of scenario `sc`: simulated over every block, or
+    /// the merge's next scenario checked against it.
+    fn statistics(&mut self, sc: &montecarlo::Scenario, exp: &Experiment) -> Result<Partial> {
+        match self {
+            Source::Run(bar) => {
+                let trials = exp.trials as u64;
+                Ok(montecarlo::run_range(sc, trials, 0..montecarlo::blocks(trials), exp.per_trial, &|n| bar.inc(n)))
+            }
+            Source::Merged(given) => check_given(sc, given.next().expect("one partial per scenario")),
+        }
+    }
+
+    pub(super) fn finish(&self) {
+        if let Source::Run(bar) = self {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// Scenario `p` evaluated: its Monte Carlo statistics from `source` on the input its exact errors
+/// were computed for, sample trajectories with the noise-free output they scatter around, the exact
+/// NEES (seed 001 §3) and the input's power and anisotropy.
+pub(super) fn outcome(engine: &Engine, p: super::Prepared, source: &mut Source) -> Result<ScenarioOutcome> {
     let exp = engine.exp;
-    let s = &exp.scenarios[index];
-    let (exact, forms) = exact_errors(engine, &setup)?;
-    let sc = engine.scenario(&setup, index, &forms);
+    let s = &exp.scenarios[p.index];
+    let sc = p.scenario(engine);
     let t = Instant::now();
-    let trials = exp.trials as u64;
-    let part = match given {
-        Some(p) => check_given(&sc, p)?,
-        None => montecarlo::run_range(&sc, trials, 0..montecarlo::blocks(trials), exp.per_trial, &|n| bar.inc(n)),
-    };
+    let part = source.statistics(&sc, exp)?;
     let mc = montecarlo::reduce(&sc, part.nodes);
     let mc_seconds = t.elapsed().as_secs_f64();
     let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
+    let super::Prepared { setup, exact, .. } = p;
     // NEES from the same exact recursions, each projected output checked like the error itself.
     let nees_exact = engine
         .filters
@@ -174,7 +208,7 @@ pub fn evaluate(
 }
 
 /// A merge's nodes checked against the scenario: every accumulator of the right size (the
-/// per-trial rows are counted where the shards are read, `report::shards`).
+/// per-trial rows are counted where the shards are read, [`super::shards`]).
 fn check_given(sc: &montecarlo::Scenario, p: Partial) -> Result<Partial> {
     let want = montecarlo::McStats::new(sc);
     if let Some(n) = p.nodes.iter().find(|n| !n.stats.same_shape(&want)) {

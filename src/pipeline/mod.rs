@@ -1,6 +1,8 @@
-//! Layer 8: one experiment end to end. [`run`] reads as the whole pipeline: design every filter
-//! ([`design`]), make each scenario concrete ([`scenarios`]), evaluate it exactly and by Monte Carlo
-//! ([`evaluate`]), and hand one typed [`RunOutcome`] ([`outcome`]) to every report.
+//! Layer 8: one experiment end to end, in stages written once ([`execute`]): design every filter
+//! ([`design`]), resolve every scenario's covariance and make it concrete ([`scenarios`]), its
+//! exact errors, its Monte Carlo from the one source the command chose ([`MonteCarlo`]), and one
+//! typed [`RunOutcome`] ([`outcome`]) for every report. Shard runs ([`shards`]) and `bench`
+//! ([`bench`]) go through the same stages ([`each_scenario`]).
 
 pub mod bench;
 pub mod budget;
@@ -9,6 +11,7 @@ pub mod evaluate;
 pub mod findings;
 pub mod outcome;
 pub mod scenarios;
+pub mod shards;
 
 use std::time::Instant;
 
@@ -17,53 +20,43 @@ pub use evaluate::three_figures;
 pub use outcome::{FilterOutcome, Gain, NeesAverage, Promise, RunOutcome, ScenarioOutcome};
 pub use scenarios::{guarantee_holds, scenario_covariances};
 
+use crate::analysis::exact::{ErrorForm, ExactError};
 use crate::config::Experiment;
 use crate::error::{Error, Result};
-use crate::sim::montecarlo::{self, Partial};
+use crate::sim::montecarlo::Partial;
+
+use evaluate::Engine;
+use scenarios::Setup;
+
+/// Where a run's Monte Carlo statistics come from, chosen once by the command.
+pub enum MonteCarlo {
+    /// Every block, simulated here; a progress bar per scenario when `progress`.
+    Run { progress: bool },
+    /// Every block, from a merge's shards (`filterbench merge`): per scenario every shard's tree
+    /// nodes in block order and the per-trial J in trial order. The designs made here must have
+    /// `fingerprint`, those the shards ran.
+    Merged { fingerprint: String, partials: Vec<Partial> },
+}
 
 /// Runs the whole experiment on the current rayon pool.
 pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
-    run_inner(exp, show_progress, None)
+    execute(exp, MonteCarlo::Run { progress: show_progress })
 }
 
-/// The experiment's run from its shards' Monte Carlo (`filterbench merge`): the designs are made
-/// again and must have `fingerprint`; `given` holds per scenario every shard's tree nodes in block
-/// order and the per-trial J in trial order. Everything else is computed as in [`run`], so the
-/// tables are those of one run.
-pub fn merged(exp: &Experiment, fingerprint: &str, given: Vec<Partial>) -> Result<RunOutcome> {
-    run_inner(exp, false, Some((fingerprint, given)))
-}
-
-fn run_inner(exp: &Experiment, show_progress: bool, given: Option<(&str, Vec<Partial>)>) -> Result<RunOutcome> {
+/// The pipeline: the designs, then scenario by scenario its setup, exact errors, Monte Carlo
+/// statistics from `mc` and outcome. A merge computes everything but the Monte Carlo as a run does,
+/// so its tables are those of one run.
+pub fn execute(exp: &Experiment, mc: MonteCarlo) -> Result<RunOutcome> {
     let start = Instant::now();
     let filters = design_all(exp)?;
     let design_seconds = start.elapsed().as_secs_f64();
-    let mut given = match given {
-        None => None,
-        Some((expected, given)) => {
-            let ours = fingerprint(&filters);
-            if ours != expected {
-                return Err(Error::invalid(
-                    "merge",
-                    format!("the shards' designs (fingerprint {expected}) differ from this machine's ({ours})"),
-                ));
-            }
-            Some(given.into_iter())
-        }
-    };
-    let covs = scenario_covariances(exp, &filters)?;
-    let engine = evaluate::Engine::new(exp, &filters);
-    let bar = evaluate::progress_bar(exp.trials as u64, show_progress);
-    let mut scenarios = Vec::with_capacity(exp.scenarios.len());
-    for (i, (s, cov)) in exp.scenarios.iter().zip(&covs).enumerate() {
-        bar.reset();
-        bar.set_message(format!("scenario {}/{} {}", i + 1, exp.scenarios.len(), s.name));
-        let setup = scenarios::setup(exp, &filters, i, cov)?;
-        let mc = given.as_mut().map(|g| g.next().expect("one partial per scenario"));
-        scenarios.push(evaluate::evaluate(&engine, setup, i, &bar, mc)?);
-    }
-    bar.finish_and_clear();
-    drop(engine);
+    let mut source = evaluate::Source::new(exp, mc, || fingerprint(&filters))?;
+    let count = exp.scenarios.len();
+    let scenarios = each_scenario(exp, &filters, |engine, p| {
+        source.start(p.index, count, &exp.scenarios[p.index].name);
+        evaluate::outcome(engine, p, &mut source)
+    })?;
+    source.finish();
     let findings = findings::after_run(exp, &filters, &scenarios)?;
     Ok(RunOutcome {
         filters,
@@ -75,48 +68,41 @@ fn run_inner(exp: &Experiment, show_progress: bool, given: Option<(&str, Vec<Par
     })
 }
 
-/// An experiment designed for running shards (`--shard I/N`): the filters, and per scenario its
-/// setup and the coordinates each filter is simulated in, made once for any number of shards.
-pub struct ShardDesigns<'a> {
-    exp: &'a Experiment,
-    filters: Vec<DesignedFilter>,
-    scenarios: Vec<(scenarios::Setup, Vec<Option<crate::analysis::exact::ErrorForm>>)>,
-    /// The designs' [`fingerprint`].
-    pub fingerprint: String,
+/// A scenario ready for its Monte Carlo: its setup and every filter's exact error (docs/math.md
+/// §4), with the coordinates each filter is simulated in.
+pub struct Prepared {
+    pub index: usize,
+    pub setup: Setup,
+    pub exact: Vec<ExactError>,
+    pub forms: Vec<Option<ErrorForm>>,
 }
 
-impl<'a> ShardDesigns<'a> {
-    pub fn new(exp: &'a Experiment) -> Result<Self> {
-        let filters = design_all(exp)?;
-        let covs = scenario_covariances(exp, &filters)?;
-        let engine = evaluate::Engine::new(exp, &filters);
-        let scenarios = covs
-            .iter()
-            .enumerate()
-            .map(|(i, cov)| {
-                let setup = scenarios::setup(exp, &filters, i, cov)?;
-                let (_, forms) = evaluate::exact_errors(&engine, &setup)?;
-                Ok((setup, forms))
-            })
-            .collect::<Result<Vec<_>>>()?;
-        drop(engine);
-        let fingerprint = fingerprint(&filters);
-        Ok(ShardDesigns { exp, filters, scenarios, fingerprint })
+impl Prepared {
+    /// The scenario as the Monte Carlo engine runs it.
+    pub fn scenario<'s>(&'s self, engine: &'s Engine) -> crate::sim::montecarlo::Scenario<'s> {
+        engine.scenario(&self.setup, self.index, &self.forms)
     }
+}
 
-    /// Blocks `blocks` of the experiment's Monte Carlo: per scenario, the tree nodes and per-trial J
-    /// of those blocks alone.
-    pub fn run(&self, blocks: std::ops::Range<u64>) -> Vec<Partial> {
-        let exp = self.exp;
-        let engine = evaluate::Engine::new(exp, &self.filters);
-        let trials = exp.trials as u64;
-        let mut out = Vec::with_capacity(self.scenarios.len());
-        for (i, (setup, forms)) in self.scenarios.iter().enumerate() {
-            let sc = engine.scenario(setup, i, forms);
-            out.push(montecarlo::run_range(&sc, trials, blocks.clone(), exp.per_trial, &|_| {}));
-        }
-        out
+/// The stages between the designs and the Monte Carlo, for every command: each scenario's
+/// covariance resolved (all first: a worst case is refused before any trial runs), then one
+/// scenario at a time its setup and exact errors (a filter whose error double precision cannot
+/// resolve is refused before its Monte Carlo), handed to `each` with the engine. One scenario's
+/// setup is alive at a time.
+pub fn each_scenario<T>(
+    exp: &Experiment,
+    filters: &[DesignedFilter],
+    mut each: impl FnMut(&Engine, Prepared) -> Result<T>,
+) -> Result<Vec<T>> {
+    let covs = scenario_covariances(exp, filters)?;
+    let engine = Engine::new(exp, filters);
+    let mut out = Vec::with_capacity(covs.len());
+    for (index, cov) in covs.iter().enumerate() {
+        let setup = scenarios::setup(exp, filters, index, cov)?;
+        let (exact, forms) = evaluate::exact_errors(&engine, &setup)?;
+        out.push(each(&engine, Prepared { index, setup, exact, forms })?);
     }
+    Ok(out)
 }
 
 /// The designs' fingerprint: SHA-256 over every filter's realization, as bits, in file order.
@@ -127,4 +113,15 @@ pub fn fingerprint(filters: &[DesignedFilter]) -> String {
         f.design.realization.digest(&mut h);
     }
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Refuses a merge whose shards ran other designs than those made here.
+fn same_designs(expected: &str, ours: &str) -> Result<()> {
+    if ours != expected {
+        return Err(Error::invalid(
+            "merge",
+            format!("the shards' designs (fingerprint {expected}) differ from this machine's ({ours})"),
+        ));
+    }
+    Ok(())
 }

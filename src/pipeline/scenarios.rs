@@ -1,6 +1,6 @@
 //! Stage 2: each scenario's setup: the covariance it names (docs/math.md §7), its deterministic disturbance
 //! (seed 000 §5), its joint input (seed 002, seed 003), which promises hold in it, and the noise
-//! sampler built from all of these. `experiment` and `bench` both draw through [`setup`].
+//! sampler built from all of these. Every command draws through [`setup`] ([`super::each_scenario`]).
 
 use crate::config::{Experiment, InputChoice};
 use crate::error::{Error, Result};

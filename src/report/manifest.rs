@@ -8,9 +8,10 @@ use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::pipeline::RunOutcome;
 
-/// Command-line values that replaced the file's.
-#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
-pub struct Overrides {
+/// The command line as the manifest records it: the values that replaced the file's (`--trials`,
+/// `--seed`) and how the run was made (`--threads`, `--out`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct CommandLine {
     pub trials: Option<usize>,
     pub seed: Option<u64>,
     pub threads: Option<usize>,
@@ -82,7 +83,7 @@ fn findings_json(out: &RunOutcome) -> serde_json::Map<String, serde_json::Value>
 
 /// Writes the manifest of the runs of one experiment: the first run's scenarios and filters at the
 /// top level, and with variants one entry per variant under `variants`.
-pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &Overrides, path: &Path) -> Result<()> {
+pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &CommandLine, path: &Path) -> Result<()> {
     let (exp, out) = runs[0];
     let (scenarios, filters) = run_json(exp, out);
     let variants: Vec<_> = runs

@@ -9,9 +9,7 @@ pub mod console;
 pub mod manifest;
 pub mod output;
 pub mod parquet;
-pub mod partial;
 pub mod recording;
-pub mod shards;
 pub mod trials;
 
 use std::path::Path;
@@ -22,7 +20,7 @@ use crate::pipeline::RunOutcome;
 
 /// Writes every file of the output contract into `dir`, for the runs of one experiment (one per
 /// variant; a file without variants is one run).
-pub fn write_all(runs: &[(&Experiment, &RunOutcome)], dir: &Path, overrides: &manifest::Overrides) -> Result<()> {
+pub fn write_all(runs: &[(&Experiment, &RunOutcome)], dir: &Path, overrides: &manifest::CommandLine) -> Result<()> {
     parquet::write_tables(runs, dir)?;
     recording::write(runs, &dir.join("recording.rrd"))?;
     manifest::write(runs, overrides, &dir.join("manifest.json"))?;

@@ -13,6 +13,7 @@ use std::path::{Component, Path, PathBuf};
 use std::sync::Mutex;
 
 use crate::error::{Error, Result};
+use crate::pipeline::shards::partial;
 
 /// The file name of the manifest; its `filterbench_version` field marks a folder as a result.
 pub const MANIFEST: &str = "manifest.json";
@@ -23,10 +24,10 @@ const STAGING_MARKER: &str = ".filterbench-staging";
 pub const MAX_NAME_BYTES: usize = 255 - ".".len() - ".tmp-".len() - 10;
 
 /// The files a result folder holds: the tables, the manifest and the recording; or a shard's
-/// partial result ([`super::partial`]).
+/// partial result ([`partial`]).
 pub fn result_files() -> Vec<&'static str> {
     let mut v: Vec<&str> = super::parquet::TABLES.iter().map(|(f, _)| *f).collect();
-    v.extend([MANIFEST, "recording.rrd", super::partial::META, super::partial::NODES]);
+    v.extend([MANIFEST, "recording.rrd", partial::META, partial::NODES]);
     v
 }
 
@@ -105,7 +106,7 @@ fn foreign_content(dir: &Path) -> Result<Option<String>> {
         let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
         // The marker can only be left by a commit interrupted between its rename and its removal.
         if is_file && (allowed.contains(&name.as_str()) || name == STAGING_MARKER) {
-            if name == MANIFEST || name == super::partial::META {
+            if name == MANIFEST || name == partial::META {
                 manifests.push(name);
             }
         } else {

@@ -31,7 +31,7 @@ pub fn load(name: &str, trials: usize) -> Experiment {
 /// The shipped experiment's variant `variant`.
 pub fn variant(name: &str, variant: &str, trials: usize) -> Experiment {
     let path = format!("{}/experiments/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut e = config::load_variants(std::path::Path::new(&path))
+    let mut e = config::load_variants(std::path::Path::new(&path), &Default::default())
         .expect("parses")
         .into_iter()
         .find(|e| e.variant.as_deref() == Some(variant))

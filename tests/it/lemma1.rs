@@ -151,7 +151,7 @@ fn riccati_matches_eigenvalues_on_shipped_experiments() {
     files.sort();
     let (mut worst, mut cases): (f64, usize) = (0.0, 0);
     for path in files.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
-        for exp in config::load_variants(path).unwrap() {
+        for exp in config::load_variants(path, &Default::default()).unwrap() {
             let Some(level) = exp.anisotropy else { continue };
             let designs = filterbench::pipeline::design_all(&exp).unwrap();
             for (f, d) in exp.filters.iter().zip(&designs) {

@@ -13,6 +13,7 @@ mod disturbance;
 mod double_double;
 mod end_to_end;
 mod exact_vs_mc;
+mod family_recipe;
 mod galerkin;
 mod galerkin_projections;
 mod generators;

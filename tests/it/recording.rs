@@ -144,7 +144,7 @@ fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_fil
     assert!(names.len() >= 11, "the shipped experiments: {names:?}");
     let tmp = crate::common::TempDir::new();
     for name in &names {
-        let mut exps = config::load_variants(&dir.join(format!("{name}.toml"))).expect("parses");
+        let mut exps = config::load_variants(&dir.join(format!("{name}.toml")), &Default::default()).expect("parses");
         for e in &mut exps {
             e.trials = 40;
             e.sample_trajectories = e.sample_trajectories.min(2);

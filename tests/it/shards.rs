@@ -184,6 +184,11 @@ fn merge_refuses_shards_that_do_not_belong() {
     // All shards agree, but not with the designs made again here.
     let (f0, f2) = (edit(&a0, "f0", &fp, &forged), edit(&a2, "f2", &fp, &forged));
     refused(&[&f0, &f1, &f2], &out, &["fingerprint", &forged]);
+    // All shards agree, but their trial count is not what their file and overrides build.
+    let (from, to) = ("\"overrides\": {\n    \"trials\": 200", "\"overrides\": {\n    \"trials\": 300");
+    let o: Vec<PathBuf> =
+        [&a0, &a1, &a2].iter().enumerate().map(|(i, d)| edit(d, &format!("o{i}"), from, to)).collect();
+    refused(&[&o[0], &o[1], &o[2]], &out, &["not its experiment file's with its overrides", s(&o[0])]);
     let o = run(&["merge", "--quiet", "--out", s(&a1), s(&a0), s(&a1), s(&a2)]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!((o.status.code(), err.trim_end().lines().count()), (Some(2), 1), "{err}");
@@ -219,11 +224,10 @@ fn generate_aniso_dropout_shards() {
     let (dir, n, trials) = (PathBuf::from(var("FB_SCALE_DIR")), var("FB_SCALE_SHARDS"), var("FB_SCALE_TRIALS"));
     let (n, trials): (u64, usize) = (n.parse().unwrap(), trials.parse().unwrap());
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/aniso_dropout.toml");
-    let mut exps = filterbench::config::load_variants(&path).unwrap();
-    filterbench::config::apply_overrides(&mut exps, Some(trials), None).unwrap();
-    let overrides = filterbench::report::manifest::Overrides { trials: Some(trials), ..Default::default() };
+    let overrides = filterbench::config::Overrides { trials: Some(trials), ..Default::default() };
+    let exps = filterbench::config::load_variants(&path, &overrides).unwrap();
     let which: Vec<u64> = (0..n).collect();
-    filterbench::report::shards::run_shards(&exps, n, &which, &overrides, |i| {
+    filterbench::pipeline::shards::run_shards(&exps, n, &which, &overrides, |i| {
         let d = dir.join(format!("shard-{i}"));
         std::fs::create_dir_all(&d).unwrap();
         d

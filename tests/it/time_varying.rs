@@ -203,7 +203,7 @@ fn constant_matrix_designs_refuse_time_varying_plants() {
     // Refused when the file is loaded, by the one capability check (families::Supports).
     let err = config::parse("tv", "tv.toml", &text).err().expect("refused").to_string();
     assert!(
-        err.contains("markov_jump family does not design for matrices that change")
+        err.contains("markov_jump family with gains = \"steady\" does not design for matrices that change")
             && err.contains("constant matrices"),
         "{err}"
     );

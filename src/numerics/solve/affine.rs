@@ -68,10 +68,6 @@ impl AffMat {
     fn map(&self, f: impl Fn(&Mat) -> Mat) -> Self {
         AffMat { c: f(&self.c), terms: self.terms.iter().map(|(k, m)| (*k, f(m))).collect() }
     }
-    /// L · self.
-    pub fn lmul(&self, l: &Mat) -> Self {
-        self.map(|m| l * m)
-    }
     /// self · R.
     pub fn rmul(&self, r: &Mat) -> Self {
         self.map(|m| m * r)

@@ -1,18 +1,22 @@
 //! Shards: `filterbench experiment NAME --shard I/N` runs blocks [⌊I·B/N⌋, ⌊(I+1)·B/N⌋) of every
-//! variant and scenario and writes a partial result ([`super::partial`]); `filterbench merge`
-//! checks that the shards belong together, rebuilds each scenario's statistics from their tree
-//! nodes ([`crate::sim::tree`]) and runs the rest of the pipeline, so the output is that of one run.
+//! variant and scenario through the pipeline's stages ([`super::each_scenario`]) and writes a
+//! partial result ([`partial`]); `filterbench merge` checks that the shards belong together,
+//! rebuilds each scenario's statistics from their tree nodes ([`crate::sim::tree`]) and runs the
+//! pipeline with them as its Monte Carlo ([`super::MonteCarlo::Merged`]), so the output is that of
+//! one run. docs/partial-results.md describes both.
 
+pub mod partial;
+
+use std::ops::Range;
 use std::path::PathBuf;
 
-use crate::config::Experiment;
+use crate::config::{Experiment, Overrides};
 use crate::error::{Error, Result};
-use crate::pipeline::{self, RunOutcome};
 use crate::sim::montecarlo::{self, McStats, Partial};
 use crate::sim::tree::Tree;
 
-use super::manifest::Overrides;
-use super::partial::{self, Meta};
+use super::{MonteCarlo, RunOutcome};
+use partial::Meta;
 
 /// `--shard I/N`, parsed and checked.
 pub fn parse_shard(text: &str) -> Result<(u64, u64)> {
@@ -28,9 +32,10 @@ pub fn parse_shard(text: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
-/// Runs shards `which` of `n` of every variant, each written into `dir(I)` as soon as it is done
-/// (the filters are designed once per variant). The command line runs one; a test or a scale
-/// measurement many. Returns the last shard's `partial.json`.
+/// Runs shards `which` of `n` of every variant and writes each into `dir(I)` (the filters are
+/// designed once per variant and each scenario set up once for all of them). The command line runs
+/// one; a test or a scale measurement many. Every variant was loaded with `overrides`, which the
+/// shards record. Returns the last shard's `partial.json`.
 pub fn run_shards(
     exps: &[Experiment],
     n: u64,
@@ -40,11 +45,18 @@ pub fn run_shards(
 ) -> Result<Option<Meta>> {
     let exp = &exps[0];
     let total = montecarlo::blocks(exp.trials as u64);
-    let designs = exps.iter().map(pipeline::ShardDesigns::new).collect::<Result<Vec<_>>>()?;
+    let ranges: Vec<_> = which.iter().map(|&i| partial::shard_blocks(i, n, total)).collect();
+    // Per variant its fingerprint and [scenario][shard]; each shard takes its [variant][scenario].
+    let mut runs: Vec<(String, Vec<std::vec::IntoIter<Partial>>)> = exps
+        .iter()
+        .map(|e| blocks(e, &ranges).map(|(fp, s)| (fp, s.into_iter().map(Vec::into_iter).collect())))
+        .collect::<Result<_>>()?;
     let mut last = None;
-    for &i in which {
-        let blocks = partial::shard_blocks(i, n, total);
-        let runs: Vec<_> = designs.iter().map(|d| d.run(blocks.clone())).collect();
+    for (&i, blocks) in which.iter().zip(&ranges) {
+        let parts: Vec<Vec<Partial>> = runs
+            .iter_mut()
+            .map(|(_, scenarios)| scenarios.iter_mut().map(|s| s.next().expect("one partial per shard")).collect())
+            .collect();
         let meta = Meta {
             format: partial::FORMAT,
             filterbench_version: env!("CARGO_PKG_VERSION").into(),
@@ -54,16 +66,28 @@ pub fn run_shards(
             seed: exp.seed,
             trials: exp.trials,
             per_trial: exp.per_trial,
-            overrides: Overrides { threads: None, out: None, ..overrides.clone() },
+            overrides: overrides.clone(),
             shard: i,
             shards: n,
             blocks: [blocks.start, blocks.end],
-            fingerprints: designs.iter().map(|d| d.fingerprint.clone()).collect(),
+            fingerprints: runs.iter().map(|(fp, _)| fp.clone()).collect(),
         };
-        partial::write(&dir(i), &meta, &runs)?;
+        partial::write(&dir(i), &meta, &parts)?;
         last = Some(meta);
     }
     Ok(last)
+}
+
+/// Blocks `ranges` of the experiment's Monte Carlo, through the pipeline's stages: the designs'
+/// fingerprint, and per scenario and range the tree nodes and per-trial J of those blocks alone.
+fn blocks(exp: &Experiment, ranges: &[Range<u64>]) -> Result<(String, Vec<Vec<Partial>>)> {
+    let filters = super::design_all(exp)?;
+    let trials = exp.trials as u64;
+    let parts = super::each_scenario(exp, &filters, |engine, p| {
+        let sc = p.scenario(engine);
+        Ok(ranges.iter().map(|r| montecarlo::run_range(&sc, trials, r.clone(), exp.per_trial, &|_| {})).collect())
+    })?;
+    Ok((super::fingerprint(&filters), parts))
 }
 
 /// The shards of one run, checked to belong together and to be complete, in shard order.
@@ -157,17 +181,24 @@ pub fn check(dirs: &[PathBuf], out: &std::path::Path) -> Result<Shards> {
         }
     }
     let meta = first.clone();
-    let mut exps = crate::config::variants_of(
+    // The experiments the shards ran: their file with the command line's overrides, built again.
+    let exps = crate::config::variants_of(
         &meta.experiment,
         &format!("{} (from the shards)", meta.experiment),
         &meta.experiment_file,
+        &meta.overrides,
     )?;
-    crate::config::apply_overrides(&mut exps, Some(meta.trials), Some(meta.seed))?;
-    for e in &mut exps {
-        e.per_trial = meta.per_trial;
-    }
     if exps.iter().map(|e| e.variant.clone()).collect::<Vec<_>>() != meta.variants {
         return Err(Error::invalid(name(0), "its variants are not those of its experiment file"));
+    }
+    if let Some(e) = exps.iter().find(|e| (e.seed, e.trials, e.per_trial) != (meta.seed, meta.trials, meta.per_trial)) {
+        return Err(Error::invalid(
+            name(0),
+            format!(
+                "its seed, trial count and --per-trial ({}, {}, {}) are not its experiment file's with its overrides ({}, {}, {})",
+                meta.seed, meta.trials, meta.per_trial, e.seed, e.trials, e.per_trial
+            ),
+        ));
     }
     Ok(Shards { exps, meta, dirs: order.into_iter().map(|i| dirs[i].clone()).collect() })
 }
@@ -242,7 +273,7 @@ pub fn merge(s: &Shards) -> Result<Vec<RunOutcome>> {
                 ));
             }
         }
-        out.push(pipeline::merged(e, fp, g)?);
+        out.push(super::execute(e, MonteCarlo::Merged { fingerprint: fp.clone(), partials: g })?);
     }
     Ok(out)
 }

@@ -14,14 +14,14 @@ use crate::sim::montecarlo::{FilterStats, McStats, Partial};
 use crate::sim::stats::Welford;
 use crate::sim::tree::Node;
 
-use super::manifest::Overrides;
+use crate::config::Overrides;
 
 /// The files of a partial result.
 pub const META: &str = "partial.json";
 pub const NODES: &str = "nodes.parquet";
-pub const TRIALS: &str = super::trials::FILE;
+pub const TRIALS: &str = "trials.parquet";
 /// The version of this format; a merge refuses any other.
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
 
 /// `partial.json`: everything a merge needs to check that shards belong together and to run the
 /// experiment's non-Monte-Carlo parts again.
@@ -36,13 +36,14 @@ pub struct Meta {
     pub seed: u64,
     pub trials: usize,
     pub per_trial: bool,
-    /// The command line's overrides, for the merged manifest.
+    /// The command line's overrides: `merge` builds the experiments from the file with them again,
+    /// and its manifest records them.
     pub overrides: Overrides,
     pub shard: u64,
     pub shards: u64,
     /// The blocks [first, end) this shard ran, of `blocks.div_ceil` over all trials.
     pub blocks: [u64; 2],
-    /// Per variant, the designs' fingerprint ([`crate::pipeline::fingerprint`]).
+    /// Per variant, the designs' fingerprint ([`super::super::fingerprint`]).
     pub fingerprints: Vec<String>,
 }
 
