@@ -40,8 +40,9 @@ pub struct Optimum {
 pub struct AlphaRule {
     pub basis: String,
     pub n: usize,
-    /// The rule's choice, or why it chose none.
-    pub choice: std::result::Result<AlphaChoice, String>,
+    /// The rule's choice; None when it chose none, and then `refused` says why.
+    pub choice: Option<AlphaChoice>,
+    pub refused: Option<String>,
     /// Per scenario: the sweep's least exact error on this (basis, n), time-averaged, and its α.
     pub best: Vec<(f64, f64)>,
 }
@@ -97,8 +98,11 @@ pub fn analyze(run: &RunView, mine: &[usize]) -> Result<Option<Finding>> {
                     (exact[*f] / steps, p.alpha)
                 })
                 .collect();
-            let choice = choose_alpha(&pilot, kind, n, &grid).map_err(|e| e.to_string());
-            alpha_rule.push(AlphaRule { basis: basis.to_string(), n, choice, best });
+            let (choice, refused) = match choose_alpha(&pilot, kind, n, &grid) {
+                Ok(c) => (Some(c), None),
+                Err(e) => (None, Some(e.to_string())),
+            };
+            alpha_rule.push(AlphaRule { basis: basis.to_string(), n, choice, refused, best });
         }
     }
     Ok(Some(Finding { family: super::Galerkin::NAME, record: std::sync::Arc::new(Sweep { optimum, alpha_rule }) }))

@@ -113,14 +113,14 @@ fn optimum_and_alpha_rule(sweep: &Sweep, scenario: &str, i: usize, steps: f64) -
     for r in &sweep.alpha_rule {
         let (basis, n) = (&r.basis, r.n);
         let (best, best_alpha) = r.best[i];
-        match &r.choice {
-            Ok(c) => s.push_str(&format!(
+        match (&r.choice, &r.refused) {
+            (Some(c), _) => s.push_str(&format!(
                 "\n{basis}, n = {n}: the discrepancy principle picks α = {:.2e} (D = {} on the sweep's α), exact error {:.6} at the nominal covariances; the sweep's smallest is {best:.6} at α = {best_alpha:e}\n",
                 c.alpha,
                 c.discrepancy.iter().map(|d| format!("{d:.3}")).collect::<Vec<_>>().join(", "),
                 c.exact / steps,
             )),
-            Err(e) => s.push_str(&format!("\n{basis}, n = {n}: no α by the discrepancy principle: {e}\n")),
+            (None, e) => s.push_str(&format!("\n{basis}, n = {n}: no α by the discrepancy principle: {}\n", e.as_deref().unwrap_or("?"))),
         }
     }
     s
