@@ -9,8 +9,8 @@ use crate::analysis::exact::ErrorForm;
 use crate::numerics::linalg::Mat;
 use crate::numerics::linop::LinOp;
 use crate::sim::lanes::{self, LANES, Row};
-use crate::sim::montecarlo::Scenario;
 use crate::sim::noise::LaneDraw;
+use crate::sim::scenario::Scenario;
 
 /// Preallocated per-thread buffers: a block allocates nothing.
 pub struct Workspace {

@@ -6,7 +6,8 @@
 use crate::filter::design::PerTrialBound;
 use crate::sim::block::Workspace;
 use crate::sim::lanes::{self, LANES, Row};
-use crate::sim::montecarlo::{FilterStats, Scenario};
+use crate::sim::mc_stats::FilterStats;
+use crate::sim::scenario::Scenario;
 
 /// The ellipsoid check of filter f at step k: e = e_z[k], `energy` = E_k; a lane that breaks it
 /// at any step is marked in `broke`.
