@@ -2,10 +2,10 @@
 //! Tikhonov's α chosen from the data, not from the unknown truth): the discrepancy principle on the
 //! innovations.
 //!
-//! A user has one record y[0..N] and the projected, regularized model of
+//! A user has one record y\[0..N] and the projected, regularized model of
 //! [`crate::families::galerkin::projected`]. Its Kalman filter predicts the innovations
-//! ν[k] = y[k] − C x̂[k|k−1] to have covariance S_α[k] = C P̄[k] Cᵀ + S_α/Δ, so the discrepancy
-//! D(α) = (1/(N m)) Σ_k ν[k]ᵀ S_α[k]⁻¹ ν[k] is ≈ 1 when the model explains the record. A large α
+//! ν\[k] = y\[k] − C x̂\[k|k−1] to have covariance S_α\[k] = C P̄\[k] Cᵀ + S_α/Δ, so the discrepancy
+//! D(α) = (1/(N m)) Σ_k ν\[k]ᵀ S_α\[k]⁻¹ ν\[k] is ≈ 1 when the model explains the record. A large α
 //! pretends the noise is larger than it is (D < 1); as α → 0 the model believes the noise-free
 //! combinations of W_m exactly while it misses the truth's modes beyond n, and D grows. Morozov's
 //! rule: take the α where D(α) = 1 (bracketed on the grid, then bisected on log α), the smallest α of the
@@ -41,7 +41,7 @@ pub struct AlphaChoice {
     pub exact: f64,
 }
 
-/// One record y[0..N] (column k = y[k]) of the experiment's truth, from the pilot stream.
+/// One record y\[0..N] (column k = y\[k]) of the experiment's truth, from the pilot stream.
 pub fn pilot_record(exp: &Experiment) -> Mat {
     let plant = &exp.plant;
     let sampler = NoiseSampler::new(plant, &exp.nominal, &Shape::Gaussian);

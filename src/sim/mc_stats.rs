@@ -11,12 +11,12 @@ use crate::sim::stats::Welford;
 pub struct FilterStats {
     /// Summed squared error J over the steps that count, one value per trial.
     pub total: Welford,
-    /// Squared error |z[k] − ẑ[k]|² at each step.
+    /// Squared error |z\[k] − ẑ\[k]|² at each step.
     pub steps: Vec<Welford>,
     /// For a filter with a per-trial bound: the largest ratio seen and the trials at or above it.
     pub max_ratio: f64,
     pub violations: u64,
-    /// e[k]ᵀ W[k] e[k] at each step, for a filter with a claimed covariance ([`crate::analysis::nees`]);
+    /// e\[k]ᵀ W\[k] e\[k] at each step, for a filter with a claimed covariance ([`crate::analysis::nees`]);
     /// empty otherwise (and at a step without a weight the accumulator stays empty).
     pub nees: Vec<Welford>,
 }

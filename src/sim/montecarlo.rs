@@ -137,13 +137,13 @@ pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McSta
     reduce(sc, run_range(sc, trials, 0..blocks(trials), false, progress).nodes)
 }
 
-/// One recorded trial: the truth z[k] and every filter's estimate ẑ[k] (columns are steps).
+/// One recorded trial: the truth z\[k] and every filter's estimate ẑ\[k] (columns are steps).
 #[derive(Clone, Debug)]
 pub struct Trajectory {
     pub trial: u64,
     pub z: Mat,
     pub zhat: Vec<Mat>,
-    /// θ[k], the plant's mode at each step (for dropouts 0 = lost).
+    /// θ\[k], the plant's mode at each step (for dropouts 0 = lost).
     pub modes: Vec<usize>,
 }
 

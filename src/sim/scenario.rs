@@ -21,7 +21,7 @@ pub struct Scenario<'a> {
     pub index: usize,
     /// Per-trial ratio checks (seed 002), if any filter has one.
     pub ratios: Option<&'a RatioCheck<'a>>,
-    /// Per filter, the NEES weights W[k] of a filter with a claimed covariance (empty: none).
+    /// Per filter, the NEES weights W\[k] of a filter with a claimed covariance (empty: none).
     pub nees: &'a [Option<Vec<Option<Mat>>>],
     /// Per filter, its error form when it is simulated in error coordinates ε = s − M x (the plant's
     /// state is then never differenced); empty or None: the filter's own state s.
@@ -37,7 +37,7 @@ impl Scenario<'_> {
     }
 }
 
-/// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w[k], k < N) and, per filter, its
+/// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w\[k], k < N) and, per filter, its
 /// per-trial bound, if it has one.
 pub struct RatioCheck<'a> {
     pub x0_weight: Mat,
