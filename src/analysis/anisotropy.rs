@@ -1,5 +1,5 @@
 //! Anisotropy analysis (seed 003 §2, docs/math.md §5): the anisotropy of a Gaussian vector, and the
-//! a-anisotropic norm of a linear operator F from Λ = E[FᵀF] by a scalar root-finding problem on the
+//! a-anisotropic norm of a linear operator F from Λ = E\[FᵀF] by a scalar root-finding problem on the
 //! eigenvalues of Λ.
 //!
 //! For W ~ N(0, Σ) in R^m, A(W) = −½ ln det(m Σ / tr Σ) ≥ 0, zero exactly for white isotropic W.
@@ -44,7 +44,7 @@ pub struct AnisotropicNorm {
     pub q: f64,
 }
 
-/// |||F|||_a from the eigenvalues μ ≥ 0 of Λ = E[FᵀF], by bisection on q ∈ [0, 1/μmax) (A(Σ(q)) is
+/// |||F|||_a from the eigenvalues μ ≥ 0 of Λ = E\[FᵀF], by bisection on q ∈ [0, 1/μmax) (A(Σ(q)) is
 /// increasing in q). When Λ is a multiple of the identity every input is equally bad and the norm is
 /// sqrt(μ) for every a.
 pub fn anisotropic_norm_from_eigenvalues(mu: &[f64], a: f64) -> Result<AnisotropicNorm> {
@@ -71,7 +71,7 @@ pub fn anisotropic_norm_from_eigenvalues(mu: &[f64], a: f64) -> Result<Anisotrop
     Ok(AnisotropicNorm { value: gain_at(mu, q), q })
 }
 
-/// |||F|||_a for Λ = E[FᵀF], and the worst input covariance Σ(q) = (I − qΛ)⁻¹ (scaled to unit trace
+/// |||F|||_a for Λ = E\[FᵀF], and the worst input covariance Σ(q) = (I − qΛ)⁻¹ (scaled to unit trace
 /// per component, tr Σ = lw).
 pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> {
     let (values, v) = sym_eigen(lambda)?;
@@ -85,7 +85,7 @@ pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> 
     Ok((norm, symmetrize(&sigma)))
 }
 
-/// Λ_w = E[𝓕ᵀ𝓕] of a realization's error system from W = col(w[0..N]) (lw = mw(N+1)) to the
+/// Λ_w = E\[𝓕ᵀ𝓕] of a realization's error system from W = col(w\[0..N]) (lw = mw(N+1)) to the
 /// counted errors, x0 fixed at its mean and the known input set aside (seed 003 §2; exact with
 /// dropouts, [`crate::analysis::exact::second_moment_operator`]).
 pub fn error_gram(plant: &crate::model::plant::Plant, real: &crate::filter::realization::Realization) -> Result<Mat> {
@@ -96,7 +96,7 @@ pub fn error_gram(plant: &crate::model::plant::Plant, real: &crate::filter::real
 }
 
 /// A realization's exact a-anisotropic norm (docs/math.md §5) with the worst input covariance Σ(q) over
-/// W = col(w[0..N]) (tr Σ = lw).
+/// W = col(w\[0..N]) (tr Σ = lw).
 pub fn realization_norm(
     plant: &crate::model::plant::Plant,
     real: &crate::filter::realization::Realization,
@@ -105,10 +105,10 @@ pub fn realization_norm(
     anisotropic_norm(&error_gram(plant, real)?, a)
 }
 
-/// Σ = T(ρ) ⊗ W: each component an AR(1) sequence in time, w[k] = ρ w[k−1] + sqrt(1−ρ²) v[k] started
+/// Σ = T(ρ) ⊗ W: each component an AR(1) sequence in time, w\[k] = ρ w\[k−1] + sqrt(1−ρ²) v\[k] started
 /// stationary, with the spatial covariance W of one step. Since det T(ρ) = (1−ρ²)^N for N+1 steps,
 /// A(Σ) = (N+1) A(W) − ½ mw N ln(1 − ρ²): the colour adds an anisotropy in closed form, so ρ for a
-/// target a is explicit (no root-finding needed). Index order: step-major, w[k] contiguous.
+/// target a is explicit (no root-finding needed). Index order: step-major, w\[k] contiguous.
 pub fn coloured_covariance(w: &Mat, steps: usize, a: f64) -> Result<(Mat, f64)> {
     let mw = w.nrows();
     let white = steps as f64 * gaussian_anisotropy(w);

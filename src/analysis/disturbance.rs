@@ -1,5 +1,5 @@
 //! A filter's worst case over deterministic disturbances bounded in energy (seed 000 §5, eq (36)
-//! with time-varying weights W_k, and per-step bounds d[k]ᵀ W_k d[k] ≤ r_k as a set U of (33)):
+//! with time-varying weights W_k, and per-step bounds d\[k]ᵀ W_k d\[k] ≤ r_k as a set U of (33)):
 //! the sequence that maximizes its summed error, that error, and a certified upper bound on it.
 //!
 //! For a linear filter the error is e = (random part, from x0 and the noises) + c + L d, with d the
@@ -9,7 +9,7 @@
 //! affine J(K) (the linear oracle, exact) plus the maximum of |c + L d|² − |c|² over the product of
 //! the blocks' sets.
 //!
-//! In u[k] = W_k^{½} d[k] the error is |L T u|², T = blockdiag(W_k^{-½}). One block with the summed
+//! In u\[k] = W_k^{½} d\[k] the error is |L T u|², T = blockdiag(W_k^{-½}). One block with the summed
 //! bound alone: the maximum is r λmax((LT)ᵀLT), attained by the top eigenvector, a closed form.
 //! Per-step bounds, or several blocks, make it a convex quadratic maximized over a product of balls,
 //! which has no closed form (box-constrained cases are NP-hard); we take the best of a monotone
@@ -31,7 +31,7 @@ use crate::numerics::linalg::{Mat, Vector, psd_factor, sym_eigen, top_eigen};
 use crate::numerics::solve::slemma::{self, BallGroup};
 
 /// The map L from one block's sequence (columns: step-major, then component) to the stacked
-/// deterministic errors e[k] over the steps that count: w[k0] enters e[k0] through G and the state
+/// deterministic errors e\[k] over the steps that count: w\[k0] enters e\[k0] through G and the state
 /// through E, then propagates through F.
 fn response(plant: &Plant, real: &Realization, offset: usize, m: usize) -> Mat {
     let nz = plant.nz();
@@ -71,14 +71,14 @@ fn response(plant: &Plant, real: &Realization, offset: usize, m: usize) -> Mat {
     l
 }
 
-/// A filter's worst deterministic disturbance: the mean squared error it adds Σ_k |e_mean[k]|² (the
+/// A filter's worst deterministic disturbance: the mean squared error it adds Σ_k |e_mean\[k]|² (the
 /// deterministic part of J, with x0's mean and the known input), the sequence, and certified upper
 /// bounds on the maximum over all admissible sequences (module docs).
 #[derive(Clone, Debug)]
 pub struct Worst {
     pub value: f64,
     pub sequence: WMean,
-    /// ≥ max Σ_k |e_mean[k]|² over the admissible sequences: (|c| + √U)² with U the certified
+    /// ≥ max Σ_k |e_mean\[k]|² over the admissible sequences: (|c| + √U)² with U the certified
     /// S-procedure bound on max |L d|² and |c|² the error of x0's mean and the known input alone.
     pub upper: f64,
     /// ≥ what the disturbances can add to E J over the sequences: U + 2|c|√U (the cross term

@@ -1,6 +1,6 @@
 //! The generalized H∞ norm of a realization's error system (seed 002 §§2–4; formulas and misprints
-//! in docs/seed002_notes.md). The error system maps ξ = col(x0 − E x0, w[0..N−1]) to
-//! η = col(e_z[0..N−1], S^½ e[N]), with e = x − s the state error of a state-estimate realization
+//! in docs/seed002_notes.md). The error system maps ξ = col(x0 − E x0, w\[0..N−1]) to
+//! η = col(e_z\[0..N−1], S^½ e\[N]), with e = x − s the state error of a state-estimate realization
 //! (ns = n) and e_z = z − ẑ; the input is weighted by K = blockdiag(R, G, …, G), R the covariance of
 //! x0 and G that of w. Theorem 2.1: the worst deterministic gain over the ellipsoid ξᵀK⁻¹ξ ≤ 1 and
 //! the worst mean-square gain over unknown input covariances are both λmax(Ψ K Ψᵀ).
@@ -14,9 +14,9 @@ use crate::numerics::solve::conic::Conic;
 
 /// What the last block of rows of Ψ holds.
 pub enum Terminal<'a> {
-    /// S^½ e[N], the weighted terminal state error (seed 002; needs ns = n).
+    /// S^½ e\[N], the weighted terminal state error (seed 002; needs ns = n).
     State(&'a Mat),
-    /// e_z[N], so that Ψ gives the error at every step k = 0..N (with w[N] = 0).
+    /// e_z\[N], so that Ψ gives the error at every step k = 0..N (with w\[N] = 0).
     Output,
 }
 
@@ -53,8 +53,8 @@ fn respond(
     }
 }
 
-/// The stacked operator Ψ of seed 002 (rows: e_z[0..N−1], then S^½ e[N]; columns: x0, then
-/// w[0..N−1]).
+/// The stacked operator Ψ of seed 002 (rows: e_z\[0..N−1], then S^½ e\[N]; columns: x0, then
+/// w\[0..N−1]).
 pub fn operator(plant: &Plant, real: &Realization, s: &Mat) -> Result<Mat> {
     operator_with(plant, real, Terminal::State(s))
 }
@@ -99,7 +99,7 @@ pub fn operator_with(plant: &Plant, real: &Realization, terminal: Terminal) -> R
 
 /// The generalized H2 norm² of a realization's error system (seed 002 Theorem 3.1, Corollary 3.1):
 /// the largest gain from input energy ξᵀK⁻¹ξ ≤ 1 to the error at a single step,
-/// max_t λmax(Ψ_t K Ψ_tᵀ), with Ψ_t the rows of e_z[t] in Ψ (the SDP (3.8) has this value).
+/// max_t λmax(Ψ_t K Ψ_tᵀ), with Ψ_t the rows of e_z\[t] in Ψ (the SDP (3.8) has this value).
 pub fn generalized_h2_norm_sq(plant: &Plant, real: &Realization, weights: &Covariances) -> Result<f64> {
     let psi = operator_with(plant, real, Terminal::Output)?;
     let a = &psi * psd_factor(&input_weight(plant, weights));
@@ -143,12 +143,14 @@ pub fn norm_with_error(
     Ok((top, crate::numerics::accuracy::eigenvalue_error(&gram), k_half * v))
 }
 
-/// The generalized H∞ norm² of a predictor realization (s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s)
-/// by the SDP (4.7) of seed 002, solved with clarabel: minimize λ over symmetric X[1..N] with
-/// X[0] = R⁻¹ and, for t = 0..N−1 (Ac = A − ΘC, Bc = B − ΘD, X⁺ = X[t+1]),
+/// The generalized H∞ norm² of a predictor realization (s\[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s)
+/// by the SDP (4.7) of seed 002, solved with clarabel: minimize λ over symmetric X\[1..N] with
+/// X\[0] = R⁻¹ and, for t = 0..N−1 (Ac = A − ΘC, Bc = B − ΘD, X⁺ = X\[t+1]),
 ///
-///     [[AcᵀX⁺Ac − X, AcᵀX⁺Bc, Czᵀ], [BcᵀX⁺Ac, BcᵀX⁺Bc − G⁻¹, 0], [Cz, 0, −λI]] ⪯ 0,
-///     [[X[N], S^½], [S^½, λI]] ⪰ 0.
+/// ```text
+/// [[AcᵀX⁺Ac − X, AcᵀX⁺Bc, Czᵀ], [BcᵀX⁺Ac, BcᵀX⁺Bc − G⁻¹, 0], [Cz, 0, −λI]] ⪯ 0,
+/// [[X[N], S^½], [S^½, λI]] ⪰ 0.
+/// ```
 ///
 /// Independent of [`norm`]: no operator is formed. Returns (λ*, clarabel's objective_error, its iterations, seconds).
 pub fn norm_sdp(plant: &Plant, real: &Realization, weights: &Covariances, s: &Mat) -> Result<(f64, f64, u32, f64)> {

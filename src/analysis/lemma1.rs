@@ -1,31 +1,37 @@
 //! The a-anisotropic norm by seed 003's Lemma 1, (2.7)–(2.11): a backward Riccati recursion and a
 //! forward Lyapunov recursion per value of q, O(N n³) instead of the eigenvalues of the lw × lw
-//! matrix Λ = E[𝓕ᵀ𝓕] ([`crate::analysis::anisotropy`], which stays the reference).
+//! matrix Λ = E\[𝓕ᵀ𝓕] ([`crate::analysis::anisotropy`], which stays the reference).
 //!
 //! The error system of a realization on a plant whose modes are independent over time (no
-//! switching, or dropouts) is a system with multiplicative noise: ξ[k+1] = F ξ + E w,
-//! e = H ξ + G w with (F, E, H, G) = those of the mode θ[k] ([`crate::analysis::exact`]), drawn
-//! afresh each step. Write E[·] for the mean over θ[k] and F̄ = E F, Ē = E E. For a deterministic
-//! W = col(w[0..N]) and ξ[0] = 0, completing squares backward in k gives
+//! switching, or dropouts) is a system with multiplicative noise: ξ\[k+1] = F ξ + E w,
+//! e = H ξ + G w with (F, E, H, G) = those of the mode θ\[k] ([`crate::analysis::exact`]), drawn
+//! afresh each step. Write E\[·] for the mean over θ\[k] and F̄ = E F, Ē = E E. For a deterministic
+//! W = col(w\[0..N]) and ξ\[0] = 0, completing squares backward in k gives
 //!
-//!     q E|𝓕W|² − |W|² = −Σ_k (w[k] − L(k) m[k])ᵀ S(k)⁻¹ (w[k] − L(k) m[k]),   m[k+1] = F̄ m + Ē w,
+//! ```text
+//! q E|𝓕W|² − |W|² = −Σ_k (w[k] − L(k) m[k])ᵀ S(k)⁻¹ (w[k] − L(k) m[k]),   m[k+1] = F̄ m + Ē w,
+//! ```
 //!
-//! with (seed 003 (2.7)–(2.10), written with E[·] for the sums over i = 0..M):
+//! with (seed 003 (2.7)–(2.10), written with E\[·] for the sums over i = 0..M):
 //!
-//!     R1(k) = E[Fᵀ R1(k+1) F] + q E[HᵀH]                                   (2.7)
-//!     R2(k) = F̄ᵀ R2(k+1) F̄ + L(k)ᵀ S(k)⁻¹ L(k)                             (2.8)
-//!     S(k)⁻¹ = I − E[q GᵀG + Eᵀ R1(k+1) E] − Ēᵀ R2(k+1) Ē                  (2.9)
-//!     L(k) = S(k) (E[Eᵀ R1(k+1) F + q GᵀH] + Ēᵀ R2(k+1) F̄)                 (2.10)
+//! ```text
+//! R1(k) = E[Fᵀ R1(k+1) F] + q E[HᵀH]                                   (2.7)
+//! R2(k) = F̄ᵀ R2(k+1) F̄ + L(k)ᵀ S(k)⁻¹ L(k)                             (2.8)
+//! S(k)⁻¹ = I − E[q GᵀG + Eᵀ R1(k+1) E] − Ēᵀ R2(k+1) Ē                  (2.9)
+//! L(k) = S(k) (E[Eᵀ R1(k+1) F + q GᵀH] + Ēᵀ R2(k+1) F̄)                 (2.10)
+//! ```
 //!
-//! (H, G counted only at the steps J sums). The map W ↦ (w[k] − L m[k])_k is unit block triangular,
+//! (H, G counted only at the steps J sums). The map W ↦ (w\[k] − L m\[k])_k is unit block triangular,
 //! so I − qΛ = Tᵀ diag(S(k)⁻¹) T: q < 1/λmax(Λ) exactly when every S(k) ≻ 0, and
 //! ln det(I − qΛ) = −Σ_k ln det S(k). The worst input of [`crate::analysis::anisotropy`],
 //! W ~ N(0, Σ(q)), Σ(q) = (I − qΛ)⁻¹ = T⁻¹ diag S(k) T⁻ᵀ, is the shaping filter
-//! w[k] = L(k) m[k] + v[k], v[k] ~ N(0, S(k)); the forward Lyapunov recursion
+//! w\[k] = L(k) m\[k] + v\[k], v\[k] ~ N(0, S(k)); the forward Lyapunov recursion
 //! P(k+1) = (F̄ + Ē L) P (F̄ + Ē L)ᵀ + Ē S Ēᵀ, P(0) = 0, gives tr Σ(q) = Σ_k tr(L P Lᵀ + S). Since
 //! ΛΣ(q) = (Σ(q) − I)/q, with τ(q) = tr(ΛΣ(q)) = (tr Σ − lw)/q:
 //!
-//!     |||F|||_a² = τ / (lw + q τ),   A(q) = −½ Σ_k ln det S(k) + (lw/2) ln(1 + q τ/lw),
+//! ```text
+//! |||F|||_a² = τ / (lw + q τ),   A(q) = −½ Σ_k ln det S(k) + (lw/2) ln(1 + q τ/lw),
+//! ```
 //!
 //! and q solves A(q) = a. Everything is carried scaled by q (R̃1 = R1/q, R̃2 = R2/q, L̃ = L/q, so
 //! R̃1 is q-free and computed once, and τ = Σ_k [tr(S Ñ) + q tr(L̃ P L̃ᵀ)] with S⁻¹ = I − q Ñ
@@ -41,7 +47,7 @@ use crate::numerics::linalg::{Mat, symmetrize};
 use crate::numerics::solve::line::{bisect, maximize_concave_01};
 
 /// The q-free part of one step of (2.7)–(2.10): the means F̄, Ē and, with R̃1(k+1),
-/// N1 = E[GᵀG + Eᵀ R̃1 E] and B1 = E[GᵀH + Eᵀ R̃1 F].
+/// N1 = E\[GᵀG + Eᵀ R̃1 E] and B1 = E\[GᵀH + Eᵀ R̃1 F].
 struct Step {
     f: Mat,
     e: Mat,

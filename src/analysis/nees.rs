@@ -1,6 +1,6 @@
 //! Consistency of a filter with its own belief: the normalized estimation error squared
-//! NEES[k] = E[e[k]ᵀ P_z[k]⁺ e[k]] / rank P_z[k] of the output error e = z − ẑ, where P_z[k] is
-//! the filter's claimed error covariance, E[e eᵀ] at its design covariance (Kalman: Cz P[k] Czᵀ
+//! NEES\[k] = E[e\[k]ᵀ P_z\[k]⁺ e\[k]] / rank P_z\[k] of the output error e = z − ẑ, where P_z\[k] is
+//! the filter's claimed error covariance, E\[e eᵀ] at its design covariance (Kalman: Cz P\[k] Czᵀ
 //! with P its Riccati solution; minimax at K̂). A consistent filter has NEES = 1; above 1 it
 //! believes itself better than it is.
 //!
@@ -8,7 +8,7 @@
 //! score, and not every realization's state is an estimate of x. Second moments, not covariances:
 //! a known mean (x0, a deterministic disturbance) is an error the filter should have removed.
 //!
-//! E[e eᵀ] per step comes from the exact per-step mean-square error (the moment recursions of
+//! E\[e eᵀ] per step comes from the exact per-step mean-square error (the moment recursions of
 //! [`crate::analysis::exact`], unchanged) of scalar outputs uᵀz: of e_i for every i and of e_i + e_j for
 //! i < j, by polarization. That is nz(nz+1)/2 exact evaluations, cheap for the few outputs these
 //! filters estimate.
@@ -32,7 +32,7 @@ fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
     (p, r)
 }
 
-/// E[e[k] e[k]ᵀ] for every step k, where `exact` evaluates the per-step mean-square error of a
+/// E[e\[k] e\[k]ᵀ] for every step k, where `exact` evaluates the per-step mean-square error of a
 /// plant and filter under the input of interest.
 pub fn error_moments(
     plant: &Plant,
@@ -77,7 +77,7 @@ pub fn weights(claimed: &[Mat]) -> Vec<Option<Mat>> {
         .collect()
 }
 
-/// The exact NEES per step: tr(W[k] E[e eᵀ]) with W the [`weights`].
+/// The exact NEES per step: tr(W\[k] E\[e eᵀ]) with W the [`weights`].
 pub fn exact(weights: &[Option<Mat>], moments: &[Mat]) -> Vec<Option<f64>> {
     weights.iter().zip(moments).map(|(w, m)| w.as_ref().map(|w| (w * m).trace())).collect()
 }

@@ -5,12 +5,12 @@
 use crate::model::plant::Plant;
 use crate::numerics::linalg::{Mat, Vector};
 
-/// z̄[k] for k = 0..N (columns are steps) of seed 003 (5.1) with w ≡ 0: the mean dynamics driven by
-/// the known input from E x(0), x̄[k+1] = A[k] x̄[k] + r[k], z̄[k] = Cz[k] x̄[k]. This is E z[k] for
+/// z̄\[k] for k = 0..N (columns are steps) of seed 003 (5.1) with w ≡ 0: the mean dynamics driven by
+/// the known input from E x(0), x̄\[k+1] = A\[k] x̄\[k] + r\[k], z̄\[k] = Cz\[k] x̄\[k]. This is E z\[k] for
 /// zero-mean noise: the multiplicative factors of (3.1) have mean zero and are independent of
-/// x[k], and a dropout touches only the measurement. With Markov modes (seed 001) A depends on
-/// θ[k], so the mean is carried per mode, m_j[k] = E[x[k] 1{θ[k] = j}] (the first moments of
-/// seed 001 eq (10)): m_i[k+1] = Σ_j Π_ji (A_j[k] m_j[k] + p_j(k) r[k]), x̄ = Σ_j m_j. A scenario's
+/// x\[k], and a dropout touches only the measurement. With Markov modes (seed 001) A depends on
+/// θ\[k], so the mean is carried per mode, m_j\[k] = E[x\[k] 1{θ\[k] = j}] (the first moments of
+/// seed 001 eq (10)): m_i\[k+1] = Σ_j Π_ji (A_j\[k] m_j\[k] + p_j(k) r\[k]), x̄ = Σ_j m_j. A scenario's
 /// deterministic disturbance is not the known input and is left out. None when the plant has no
 /// known input: then there is no reference beyond x(0)'s decaying mean.
 pub fn noise_free_output(plant: &Plant) -> Option<Mat> {

@@ -9,10 +9,12 @@
 //! variables): a caller gives, per step, P(k), P(k+1) and the products P(k+1)𝒜ᵢ, P(k+1)ℬᵢ, 𝒞ᵢ, 𝒟ᵢ as
 //! affine matrices, and [`Conditions::add`] writes
 //!
-//!     (4.25)  [[P(k), ·, ·, ·], [0, ηI, ·, ·], [P'𝒜ᵢ, P'ℬᵢ, P', ·]ᵢ, [𝒞ᵢ, 𝒟ᵢ, 0, I]ᵢ] ⪰ 0
-//!     (4.27)  [[ηI − Ψ(k), ·, ·], [P'ℬᵢ, P', ·]ᵢ, [𝒟ᵢ, 0, I]ᵢ] ⪰ 0
-//!     (4.26), (4.28): the same at k = N with P(N+1) = 0
-//!     (4.29)  ∏ det Ψ(k) ≥ e^{2a} (η − γ²)^{lw},  lw = mw(N+1)
+//! ```text
+//! (4.25)  [[P(k), ·, ·, ·], [0, ηI, ·, ·], [P'𝒜ᵢ, P'ℬᵢ, P', ·]ᵢ, [𝒞ᵢ, 𝒟ᵢ, 0, I]ᵢ] ⪰ 0
+//! (4.27)  [[ηI − Ψ(k), ·, ·], [P'ℬᵢ, P', ·]ᵢ, [𝒟ᵢ, 0, I]ᵢ] ⪰ 0
+//! (4.26), (4.28): the same at k = N with P(N+1) = 0
+//! (4.29)  ∏ det Ψ(k) ≥ e^{2a} (η − γ²)^{lw},  lw = mw(N+1)
+//! ```
 //!
 //! **One row per factor, carrying all four matrices.** The paper writes 𝒜ᵢ, ℬᵢ, 𝒞ᵢ, 𝒟ᵢ in separate
 //! rows, which is exact when every matrix has its own factors ((4.12)–(4.13) and the condition
@@ -20,7 +22,7 @@
 //! shared ζ of (2.1); a dropout enters 𝒜 and 𝒞 of a filtering structure at once) has one block row
 //! [P'𝒜ᵢ, P'ℬᵢ; 𝒞ᵢ, 𝒟ᵢ]: the Schur complement of (4.25) is then
 //! diag(P, ηI) − Σᵢ [𝒜ᵢ ℬᵢ; 𝒞ᵢ 𝒟ᵢ]ᵀ diag(P', I) [𝒜ᵢ ℬᵢ; 𝒞ᵢ 𝒟ᵢ] ⪰ 0, which is η times the Riccati
-//! inequality (4.21)–(4.23) with E[·] taken over the correlated factors exactly, so (4.14) is not
+//! inequality (4.21)–(4.23) with E\[·] taken over the correlated factors exactly, so (4.14) is not
 //! needed. The bound itself (Lemma 1 with R = R1 + R2 and Jensen on the mean) is derived in the
 //! module docs of `families::anisotropic`.
 //!
@@ -262,7 +264,7 @@ impl Analysis {
 /// full P(k) on the augmented state ξ = (x, s) of [`crate::analysis::exact`] (no restriction of P,
 /// unlike the syntheses), and their least γ² bounds |||F|||²_a from above. The error system's terms
 /// are the factors' (seed 003 (2.1)) and, on a plant with dropouts, the mode's deviation from its
-/// mean: with θ[k] independent over k, Σⱼ pⱼ 𝒜ⱼᵀR𝒜ⱼ = 𝒜̄ᵀR𝒜̄ + Σⱼ pⱼ(𝒜ⱼ − 𝒜̄)ᵀR(𝒜ⱼ − 𝒜̄). Refuses a
+/// mean: with θ\[k] independent over k, Σⱼ pⱼ 𝒜ⱼᵀR𝒜ⱼ = 𝒜̄ᵀR𝒜̄ + Σⱼ pⱼ(𝒜ⱼ − 𝒜̄)ᵀR(𝒜ⱼ − 𝒜̄). Refuses a
 /// Markov plant (noise with memory is outside seed 003).
 pub fn analyze_sdp(plant: &Plant, real: &Realization, level: Level) -> Result<SdpAnalysis> {
     if plant.switches() && !plant.independent_modes() {
@@ -359,7 +361,9 @@ fn error_terms(plant: &Plant, real: &Realization, k: usize, probs: &[f64]) -> Ve
 /// What Theorem 1 certifies for a given filter, found exactly: for a fixed q = 1/η the least
 /// solution of (4.25) is the Riccati equation (4.21)–(4.23) with equality, R(N+1) = 0,
 ///
-///     S̃(k) = I − E[ℬᵀR'ℬ + q𝒟ᵀ𝒟],  L̃(k) = E[ℬᵀR'𝒜 + q𝒟ᵀ𝒞],  R(k) = E[𝒜ᵀR'𝒜 + q𝒞ᵀ𝒞] + L̃ᵀS̃⁻¹L̃,
+/// ```text
+/// S̃(k) = I − E[ℬᵀR'ℬ + q𝒟ᵀ𝒟],  L̃(k) = E[ℬᵀR'𝒜 + q𝒟ᵀ𝒞],  R(k) = E[𝒜ᵀR'𝒜 + q𝒞ᵀ𝒞] + L̃ᵀS̃⁻¹L̃,
+/// ```
 ///
 /// (every right-hand side grows with R', so the least R(k+1) gives the largest S̃(k) at every step
 /// at once — the monotonicity the paper invokes below (4.24)), Ψ(k) = ηS̃(k) is the best Ψ, and
@@ -368,13 +372,13 @@ fn error_terms(plant: &Plant, real: &Realization, k: usize, probs: &[f64]) -> Ve
 /// 1/q̄. This is the optimum of the LMIs [`analyze_sdp`] hands to clarabel, without its difficulty:
 /// at a = 0 the optimum is the limit q → 0 (η → ∞), which an interior-point solver only approaches
 /// (AlmostSolved, 0.5 % apart between settings on aniso_dropout). R is carried divided by q, so
-/// q → 0 loses nothing: at a = 0 the bound tends to tr E[ℬᵀR̃ℬ + 𝒟ᵀ𝒟]/lw = ‖F‖₂²/lw, the exact
+/// q → 0 loses nothing: at a = 0 the bound tends to tr E\[ℬᵀR̃ℬ + 𝒟ᵀ𝒟]/lw = ‖F‖₂²/lw, the exact
 /// H2 limit (Jensen's gap vanishes with the quadratic term).
 ///
 /// **Error analysis.** Each step forms R(k) from R(k+1) by a fixed number of products of
 /// (n_ξ × n_ξ) and (n_ξ × m_w) matrices, a relative rounding of about n_ξ ε; carried through the m
 /// steps after k by a stable error system, R(k)'s relative error is at most about m n_ξ ε to first
-/// order, and so is that of N̂(k) = E[ℬᵀR̃'ℬ + 𝒟ᵀ𝒟], whose eigenvalues μ are computed to
+/// order, and so is that of N̂(k) = E\[ℬᵀR̃'ℬ + 𝒟ᵀ𝒟], whose eigenvalues μ are computed to
 /// [`crate::numerics::accuracy::eigenvalue_error`] besides. So each μ carries an error
 /// δμ = (m + 1) n ε ‖N̂(k)‖_F (n = max(n_ξ, m_w)); a q is accepted only where q(μ + δμ) < 1 for every
 /// μ (S̃ ≻ 0 for certain), ln det S̃ errs by at most Σ qδμ/(1 − q(μ + δμ)), and γ²(q) by e^L/q times

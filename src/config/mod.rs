@@ -1,5 +1,5 @@
-//! Layer 7, the experiment file: its schema ([`schema`]), its validation into a resolved
-//! [`Experiment`] ([`resolve`]; every error names the offending key), its variants and sweeps.
+//! Layer 7, the experiment file: its schema (`schema`), its validation into a resolved
+//! [`Experiment`] (`resolve`; every error names the offending key), its variants and sweeps.
 //! Every key is documented in docs/experiment-files.md.
 
 mod disturbance;
@@ -23,7 +23,7 @@ use resolve::{deserialize, resolve_file};
 use schema::ExperimentFile;
 
 /// How a scenario's inputs are drawn: block by block and white in time (the default), or jointly
-/// over the horizon as ξ = col(x0 − E x0, w[0..N−1]) (seed 002's setting; w[N] = 0). `F` refers to
+/// over the horizon as ξ = col(x0 − E x0, w\[0..N−1]) (seed 002's setting; w\[N] = 0). `F` refers to
 /// a filter: its name as written in the file, its index once resolved.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
@@ -34,11 +34,11 @@ pub enum Input<F> {
     EllipsoidSurface,
     /// Uniform inside that ellipsoid.
     EllipsoidInterior,
-    /// ξ ~ (0, Σ) with Σ a random full covariance (fixed by the seed), E[ξᵀK⁻¹ξ] = dim.
+    /// ξ ~ (0, Σ) with Σ a random full covariance (fixed by the seed), E\[ξᵀK⁻¹ξ] = dim.
     RandomCovariance { seed: u64 },
     /// The worst input on the ellipsoid for the named filter (the top eigenvector of ΨKΨᵀ).
     EllipsoidWorstFor { filter: F },
-    /// Gaussian W = col(w[0..N]) coloured in time (AR(1) per component, the nominal covariance per
+    /// Gaussian W = col(w\[0..N]) coloured in time (AR(1) per component, the nominal covariance per
     /// step) with total anisotropy exactly `anisotropy` (seed 003; a over lw = mw(N+1)).
     Coloured { anisotropy: f64 },
     /// The named filter's worst Gaussian input at total anisotropy `anisotropy`: Σ(q) = (I − qΛ)⁻¹,

@@ -21,7 +21,7 @@ pub(super) struct Matrices {
     pub(super) known_input: Vec<Vector>,
 }
 
-/// Reads `[plant]`'s matrices, the mean of x0 and the known input r[k] (docs/math.md §0).
+/// Reads `[plant]`'s matrices, the mean of x0 and the known input r\[k] (docs/math.md §0).
 pub(super) fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
     let a = from_rows("plant.A", &p.A, None)?;
     let n = a.nrows();

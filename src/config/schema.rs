@@ -113,7 +113,7 @@ pub(super) struct FactorFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ModesFile {
-    /// Π[s][k] = P(θ[n+1] = k | θ[n] = s).
+    /// Π\[s]\[k] = P(θ\[n+1] = k | θ\[n] = s).
     pub(super) transition: Rows,
     /// p(0); default the stationary distribution.
     pub(super) initial: Option<Vec<f64>>,
@@ -134,9 +134,9 @@ pub(super) struct ModeFile {
 #[derive(Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub(super) enum KnownInputFile {
-    /// r[k] given row by row, one row per step k = 0..N-1.
+    /// r\[k] given row by row, one row per step k = 0..N-1.
     Values { values: Rows },
-    /// r_i[k] = amplitude_i · sin(frequency · k + phase).
+    /// r_i\[k] = amplitude_i · sin(frequency · k + phase).
     Sine {
         amplitude: Vec<f64>,
         frequency: f64,

@@ -1,13 +1,15 @@
 //! The generalized H2 filter (seed 002 eqs (5.6)–(5.7), docs/math.md §4; docs/seed002_notes.md): the Kalman
 //! predictor for the weights R = cov x0, G = cov w with the noise split (5.5),
 //!
-//!     P2[t+1] = A (P2⁻¹ + Cᵀ G_D⁻¹ C)⁻¹ Aᵀ + G_B,   P2[0] = R,   Θ* = A P2 Cᵀ (C P2 Cᵀ + G_D)⁻¹,
+//! ```text
+//! P2[t+1] = A (P2⁻¹ + Cᵀ G_D⁻¹ C)⁻¹ Aᵀ + G_B,   P2[0] = R,   Θ* = A P2 Cᵀ (C P2 Cᵀ + G_D)⁻¹,
+//! ```
 //!
 //! (computed here in the equivalent covariance form, without inverting P2). Theorem 3.1 applied to
 //! the error system (5.3): at every step t and for every input, random or not,
-//! e_z[t]ᵀ (Cz P2[t] Czᵀ)⁻¹ e_z[t] ≤ |x0 − E x0|²_R + Σ_{k<t} |w[k]|²_G, i.e. the error lies in the
-//! ellipsoid of Cz P2[t] Czᵀ scaled by the input energy so far, and the worst gain is
-//! λmax(Cz P2[t] Czᵀ).
+//! e_z\[t]ᵀ (Cz P2\[t] Czᵀ)⁻¹ e_z\[t] ≤ |x0 − E x0|²_R + Σ_{k<t} |w\[k]|²_G, i.e. the error lies in the
+//! ellipsoid of Cz P2\[t] Czᵀ scaled by the input energy so far, and the worst gain is
+//! λmax(Cz P2\[t] Czᵀ).
 
 use serde::Deserialize;
 
@@ -24,7 +26,7 @@ use crate::model::plant::Pattern;
 #[serde(deny_unknown_fields)]
 pub struct Params {}
 
-/// P2[t] for t = 0..N.
+/// P2\[t] for t = 0..N.
 pub fn riccati(plant: &Plant, weights: &Covariances) -> Vec<Mat> {
     let w = weights.w();
     let mut p = weights.x0().clone();

@@ -1,12 +1,14 @@
 //! The H∞-λ filter (seed 002 eqs (5.9)–(5.10), docs/math.md §4; docs/seed002_notes.md), a predictor:
 //!
-//!     M[t]    = P∞[t]⁻¹ + Cᵀ G_D⁻¹ C − λ⁻¹ Czᵀ Cz,   Θ∞[t] = A M⁻¹ Cᵀ G_D⁻¹,
-//!     P∞[t+1] = A M⁻¹ Aᵀ + G_B,                        P∞[0] = R,
+//! ```text
+//! M[t]    = P∞[t]⁻¹ + Cᵀ G_D⁻¹ C − λ⁻¹ Czᵀ Cz,   Θ∞[t] = A M⁻¹ Cᵀ G_D⁻¹,
+//! P∞[t+1] = A M⁻¹ Aᵀ + G_B,                        P∞[0] = R,
+//! ```
 //!
 //! with the noise split (5.5): G_B = B G Bᵀ, G_D = D G Dᵀ ≻ 0, B G Dᵀ = 0, where R and G are the
 //! nominal covariances of x0 and w (the weights of the ellipsoid). It exists while
-//! Cz P∞[t] Czᵀ ≺ λI for t = 0..N−1 and S^½ P∞[N] S^½ ≺ λI; then for every input, random or not,
-//! Σ_{t<N} |e_z[t]|² + e[N]ᵀ S e[N] < λ (|x0 − E x0|²_R + Σ_{t<N} |w[t]|²_G).
+//! Cz P∞\[t] Czᵀ ≺ λI for t = 0..N−1 and S^½ P∞\[N] S^½ ≺ λI; then for every input, random or not,
+//! Σ_{t<N} |e_z\[t]|² + e\[N]ᵀ S e\[N] < λ (|x0 − E x0|²_R + Σ_{t<N} |w\[t]|²_G).
 //! λ → ∞ gives the Kalman predictor; `lambda = "min"` bisects for the smallest feasible λ (the
 //! generalized H∞-optimal filter) and uses it times (1 + margin).
 //! `method = "sdp"` designs through the design form of the SDP (4.7) instead ([`super::hinf_sdp`]):
@@ -34,7 +36,7 @@ enum Lambda {
 pub struct Params {
     /// λ > 0, or "min" for the smallest feasible λ.
     lambda: Lambda,
-    /// S, the weight of the terminal state error e[N] (n×n, PSD); default 0.
+    /// S, the weight of the terminal state error e\[N] (n×n, PSD); default 0.
     terminal_weight: Option<Vec<Vec<f64>>>,
     /// With lambda = "min": the filter uses λ_min (1 + margin), strictly feasible.
     #[serde(default = "default_margin")]
@@ -77,7 +79,7 @@ impl std::fmt::Display for Infeasible {
     }
 }
 
-/// The H∞-λ recursion (5.9)–(5.10): the gains Θ∞[t] for t = 0..N, or the first violated condition.
+/// The H∞-λ recursion (5.9)–(5.10): the gains Θ∞\[t] for t = 0..N, or the first violated condition.
 /// It stays apart from [`crate::numerics::riccati`]: it runs in information form (P∞⁻¹ and M⁻¹, not
 /// S⁺) with the −λ⁻¹ CzᵀCz term, and checks feasibility at every step.
 pub fn recursion(
@@ -136,7 +138,7 @@ pub fn lambda_min(plant: &Plant, weights: &Covariances, s: &Mat) -> Result<f64> 
     Ok(hi)
 }
 
-/// The predictor realization of gains Θ[t]: s[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
+/// The predictor realization of gains Θ\[t]: s\[t+1] = (A − ΘC) s + Θ y + r, ẑ = Cz s.
 pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
     let steps =
         gains.iter().enumerate().map(|(t, th)| Gains::predictor(plant.a_at(t), &plant.c_at(t), th, plant.cz_at(t))).collect();

@@ -1,18 +1,20 @@
 //! The design form of seed 002's SDP (4.7) (docs/seed002_notes.md): H∞-λ predictors
-//! s[t+1] = A s + Θ[t](y − C s) from one semidefinite program instead of the Riccati recursion
-//! (5.9)–(5.10). With the change of variables Z[t] = X[t+1] Θ[t] the analysis LMI of (4.7) becomes,
-//! by a Schur complement on X[t+1] (the Bc = B − ΘD term as X⁺B − ZD), linear in (X, Z, λ):
+//! s\[t+1] = A s + Θ\[t](y − C s) from one semidefinite program instead of the Riccati recursion
+//! (5.9)–(5.10). With the change of variables Z\[t] = X\[t+1] Θ\[t] the analysis LMI of (4.7) becomes,
+//! by a Schur complement on X\[t+1] (the Bc = B − ΘD term as X⁺B − ZD), linear in (X, Z, λ):
 //!
-//!     [[−X[t], 0, Czᵀ, (X⁺A − ZC)ᵀ], [0, −I, 0, (X⁺BL − ZDL)ᵀ], [Cz, 0, −λI, 0],
-//!      [X⁺A − ZC, X⁺BL − ZDL, 0, −X⁺]] ⪯ 0,  t = 0..N−1,   X[0] = R⁻¹,
-//!     [[X[N], S^½], [S^½ᵀ, λI]] ⪰ 0,
+//! ```text
+//! [[−X[t], 0, Czᵀ, (X⁺A − ZC)ᵀ], [0, −I, 0, (X⁺BL − ZDL)ᵀ], [Cz, 0, −λI, 0],
+//!  [X⁺A − ZC, X⁺BL − ZDL, 0, −X⁺]] ⪯ 0,  t = 0..N−1,   X[0] = R⁻¹,
+//! [[X[N], S^½], [S^½ᵀ, λI]] ⪰ 0,
+//! ```
 //!
 //! where G = L Lᵀ (the weight of w written as w = L u, |w|²_G = |u|², which also covers a singular
-//! G). Θ[t] = X[t+1]⁻¹ Z[t]. eᵀX[t]e is a storage function of the error system: summing the
-//! dissipation inequalities gives Σ|e_z|² + e[N]ᵀSe[N] ≤ λ(|e0|²_R + Σ|w|²_G).
+//! G). Θ\[t] = X\[t+1]⁻¹ Z\[t]. eᵀX\[t]e is a storage function of the error system: summing the
+//! dissipation inequalities gives Σ|e_z|² + e\[N]ᵀSe\[N] ≤ λ(|e0|²_R + Σ|w|²_G).
 //!
 //! Minimizing λ gives λ_min in one program. At a fixed λ > λ_min many (X, Z) are feasible; which
-//! filter is returned is the objective's choice, see [`Choice`].
+//! filter is returned is the objective's choice, see [`Choice`](crate::families::hinf_sdp::Choice).
 
 use crate::error::{Error, Result};
 use crate::model::plant::{Covariances, Plant};
@@ -24,15 +26,15 @@ use crate::numerics::solve::conic::{Conic, Failure, Solution, Tuning};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Choice {
-    /// Maximize Σ_t tr X[t]. Given X[t], the largest X[t+1] allowed by the LMI is attained by the
-    /// completed square of seed 002 l.1368–1376 at Θ∞ and equals P∞[t+1]⁻¹, so the maximizer is the
+    /// Maximize Σ_t tr X\[t]. Given X\[t], the largest X\[t+1] allowed by the LMI is attained by the
+    /// completed square of seed 002 l.1368–1376 at Θ∞ and equals P∞\[t+1]⁻¹, so the maximizer is the
     /// Riccati's central filter (5.9)–(5.10), reached through the SDP: a cross-check.
     Central,
-    /// Minimize Σ_t tr X[t]: the storage eᵀX[t]e pushed down to the worst-case cost-to-go
-    /// (backward dissipation from X[N] = S/λ), so the gains make the worst future error from every
+    /// Minimize Σ_t tr X\[t]: the storage eᵀX\[t]e pushed down to the worst-case cost-to-go
+    /// (backward dissipation from X\[N] = S/λ), so the gains make the worst future error from every
     /// error state small, while the whole-horizon guarantee at λ still holds. A non-central filter
     /// that plays for the future where the central one accounts for the past; it needs S ≻ 0
-    /// (with S = 0, X[N] = 0 and the last gain is not determined). Pushing the storage down makes
+    /// (with S = 0, X\[N] = 0 and the last gain is not determined). Pushing the storage down makes
     /// every dissipation inequality tight, so its norm² is λ itself, not below it: it is designed
     /// at λ (1 − [`STRICT`]) so that the solver's residuals cannot carry it over λ.
     MinStorage,
@@ -47,9 +49,9 @@ pub const STRICT: f64 = 1e-7;
 pub struct SdpDesign {
     /// λ at the solution (the optimum when λ was minimized, else the given λ).
     pub lambda: f64,
-    /// Θ[t] for t = 0..N; Θ[N] moves s[N+1], past the horizon, and is zero.
+    /// Θ\[t] for t = 0..N; Θ\[N] moves s\[N+1], past the horizon, and is zero.
     pub gains: Vec<Mat>,
-    /// X[0..N] at the solution.
+    /// X\[0..N] at the solution.
     pub storage: Vec<Mat>,
     /// clarabel's first-order bound on |costᵀx − optimum| (`Solution::objective_error`): for
     /// [`minimize_lambda`], how far λ may be from λ_min on the solver's side.

@@ -1,13 +1,15 @@
 //! The linear minimum-variance predictor for intermittent observations (seed 003 §4.2.1's plant
 //! (4.30); the H2-optimal reference of the `aniso_dropout` experiment). It has the structure of
-//! (4.31) with W = A, x̂[k+1] = A x̂ + H(y − p Cy x̂) + r, and the gain that minimizes E|e[k+1]|²
-//! given the error covariance P and the raw state moment X = E[xxᵀ]:
+//! (4.31) with W = A, x̂\[k+1] = A x̂ + H(y − p Cy x̂) + r, and the gain that minimizes E|e\[k+1]|²
+//! given the error covariance P and the raw state moment X = E\[xxᵀ]:
 //!
-//!     ν = y − pCy x̂ = pCy e + (λ − p) Cy x + Dy w,    S = p² Cy P Cyᵀ + p(1−p) Cy X Cyᵀ + Dy W Dyᵀ,
-//!     H = (p A P Cyᵀ + B W Dyᵀ) S⁺,    P' = A P Aᵀ + B W Bᵀ − H S Hᵀ,
-//!     X' = A X Aᵀ + B W Bᵀ + A m rᵀ + r mᵀ Aᵀ + r rᵀ,  m' = A m + r   (m = E x),
+//! ```text
+//! ν = y − pCy x̂ = pCy e + (λ − p) Cy x + Dy w,    S = p² Cy P Cyᵀ + p(1−p) Cy X Cyᵀ + Dy W Dyᵀ,
+//! H = (p A P Cyᵀ + B W Dyᵀ) S⁺,    P' = A P Aᵀ + B W Bᵀ − H S Hᵀ,
+//! X' = A X Aᵀ + B W Bᵀ + A m rᵀ + r mᵀ Aᵀ + r rᵀ,  m' = A m + r   (m = E x),
+//! ```
 //!
-//! P[0] = cov x0, X[0] = P[0] + m0 m0ᵀ. The p(1−p) term is the price of not knowing λ: the filter
+//! P\[0] = cov x0, X\[0] = P\[0] + m0 m0ᵀ. The p(1−p) term is the price of not knowing λ: the filter
 //! sees a measurement whose signal part is missing with probability 1 − p. With p = 1 it is the
 //! Kalman predictor. Its guarantee is its exact error at the design covariance, Σ_k tr(Cz P Czᵀ)
 //! plus the Dz terms.
@@ -56,7 +58,7 @@ impl super::Family for Intermittent {
 }
 
 /// The predictor of the module docs and the summed error its Riccati recursion predicts,
-/// Σ_k tr(Cz P[k] Czᵀ + Dz W Dzᵀ).
+/// Σ_k tr(Cz P\[k] Czᵀ + Dz W Dzᵀ).
 pub fn predictor(plant: &Plant, cov: &Covariances) -> (Realization, f64) {
     let w = cov.w();
     let (p, v) = (plant.arrival_mean(), plant.dropout_variance());

@@ -1,15 +1,17 @@
 //! The Kalman family (docs/math.md §1): seed 000 eqs (4)–(6) in filtering form and seed 002 eqs (5.6)–(5.7)
 //! in prediction form, designed at a stated covariance. Both forms share the one-step predictor
-//! state s[k] = x̂[k|k−1]; they differ only in the output map.
+//! state s\[k] = x̂\[k|k−1]; they differ only in the output map.
 //!
-//! The recursion is written for the stacked noise of docs/math.md §0, where the same w[k] may enter both
-//! x[k+1] (through B) and y[k] (through D): with innovation covariance S = C P̄ Cᵀ + D W Dᵀ,
+//! The recursion is written for the stacked noise of docs/math.md §0, where the same w\[k] may enter both
+//! x\[k+1] (through B) and y\[k] (through D): with innovation covariance S = C P̄ Cᵀ + D W Dᵀ,
 //!
-//!     L  = (A P̄ Cᵀ + B W Dᵀ) S⁺                 (predictor gain)
-//!     Lz = (Cz P̄ Cᵀ + Dz W Dᵀ) S⁺               (filtering output gain: ẑ = E[z[k] | y[0..k]])
-//!     P̄[k+1] = A P̄ Aᵀ + B W Bᵀ − L S Lᵀ,       P̄[0] = S_x0,   s[0] = E x0.
+//! ```text
+//! L  = (A P̄ Cᵀ + B W Dᵀ) S⁺                 (predictor gain)
+//! Lz = (Cz P̄ Cᵀ + Dz W Dᵀ) S⁺               (filtering output gain: ẑ = E[z[k] | y[0..k]])
+//! P̄[k+1] = A P̄ Aᵀ + B W Bᵀ − L S Lᵀ,       P̄[0] = S_x0,   s[0] = E x0.
+//! ```
 //!
-//! With D = [0 d] and B = [b 0] (uncorrelated noises) this is exactly seed 000's k[n] and P[n]; the
+//! With D = [0 d] and B = [b 0] (uncorrelated noises) this is exactly seed 000's k\[n] and P\[n]; the
 //! pseudo-inverse ⁺ is the seed's and gives a zero gain at steps without measurements.
 
 use serde::Deserialize;

@@ -1,9 +1,11 @@
-//! The Markov-jump predictor (seed 001, docs/math.md §3): x̂[n+1] = A_θ x̂ + K_θ(n)(y − C_θ x̂) + r, ẑ = Cz x̂,
-//! with θ = θ[n] the observed mode. With P_s(n) = E[x̃x̃ᵀ 1{θ[n] = s}] and p_s(n) = P(θ[n] = s), written
+//! The Markov-jump predictor (seed 001, docs/math.md §3): x̂\[n+1] = A_θ x̂ + K_θ(n)(y − C_θ x̂) + r, ẑ = Cz x̂,
+//! with θ = θ\[n] the observed mode. With P_s(n) = E[x̃x̃ᵀ 1{θ\[n] = s}] and p_s(n) = P(θ\[n] = s), written
 //! for the stacked noise (B_s w and D_s w may share components, covariance W):
 //!
-//!     S_s = C_s P_s C_sᵀ + p_s D_s W D_sᵀ,   K_s(n) = (A_s P_s C_sᵀ + p_s B_s W D_sᵀ) S_s⁺      (15)
-//!     P_k(n+1) = Σ_s Π_sk [A_s P_s A_sᵀ + p_s B_s W B_sᵀ − K_s S_s K_sᵀ]                       (16)
+//! ```text
+//! S_s = C_s P_s C_sᵀ + p_s D_s W D_sᵀ,   K_s(n) = (A_s P_s C_sᵀ + p_s B_s W D_sᵀ) S_s⁺      (15)
+//! P_k(n+1) = Σ_s Π_sk [A_s P_s A_sᵀ + p_s B_s W B_sᵀ − K_s S_s K_sᵀ]                       (16)
+//! ```
 //!
 //! (the printed `P_s(n)` beside G S G* and B R B* is the probability p_s(n); P_s(0) = p_s(0)·cov x0,
 //! not 0, for an uncertain x0; Π_sk is the probability of going from s to k). The choice (15)

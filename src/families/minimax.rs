@@ -165,7 +165,7 @@ impl super::Family for Minimax {
 /// The smallest eigenvalue of R_z(K) = cov(Z_N) = Ψ R_ρ(K) Ψ*, the covariance of every measurement
 /// of the horizon stacked (seed 000 before eq (17); Theorem 1.2b asks R_z(K̂) ≻ 0), relative to its
 /// largest (0 when it is singular to rounding). Z is built column by column as a linear map of
-/// (x0, w[0..N]), so no filter is involved.
+/// (x0, w\[0..N]), so no filter is involved.
 pub fn observation_covariance_min_eigenvalue(plant: &Plant, k: &Covariances) -> Result<f64> {
     let (nx, nw, ny) = (plant.nx(), plant.nw(), plant.ny());
     let cols = nx + plant.steps() * nw;

@@ -1,7 +1,7 @@
 //! Layer 5, the filter families. Each is one file with a type implementing [`Family`]: its name in
 //! experiment files, its typed parameters (read strictly when the file is loaded) and its design
 //! procedure, which turns a [`DesignInput`] into a [`Design`]. Adding a family is that file and
-//! one line in the [`families!`] list below.
+//! one line in the `families!` list below.
 
 use std::fmt::Debug;
 use std::sync::{Arc, RwLock};

@@ -210,7 +210,7 @@ impl Design {
     }
 }
 
-/// Seed 003's promise: E|Z̃|² ≤ γ² E|W|² for every input W = col(w[0..N]) with anisotropy ≤ a
+/// Seed 003's promise: E|Z̃|² ≤ γ² E|W|² for every input W = col(w\[0..N]) with anisotropy ≤ a
 /// (a = ∞: every input; the H∞-suboptimal filter).
 #[derive(Clone, Copy, Debug)]
 pub struct GainBound {
@@ -227,13 +227,13 @@ pub struct GainBound {
 }
 
 /// Seed 002's per-realization promises, with the input energy
-/// E_t = |x0 − E x0|²_R + Σ_{k<t} |w[k]|²_G (R, G the nominal covariances of x0 and w).
+/// E_t = |x0 − E x0|²_R + Σ_{k<t} |w\[k]|²_G (R, G the nominal covariances of x0 and w).
 #[derive(Clone, Debug)]
 pub enum PerTrialBound {
-    /// H∞-λ (eqs (5.9)–(5.10)): (Σ_{k<N} |e_z[k]|² + e[N]ᵀ S e[N]) / E_N < bound, e = x − s.
+    /// H∞-λ (eqs (5.9)–(5.10)): (Σ_{k<N} |e_z\[k]|² + e\[N]ᵀ S e\[N]) / E_N < bound, e = x − s.
     Ratio { bound: f64, terminal_weight: Mat },
-    /// Generalized H2 (Theorem 3.1 on (5.6)–(5.7)): e_z[t]ᵀ Q[t] e_z[t] ≤ E_t at every step t, with
-    /// Q[t] = (Cz P2[t] Czᵀ)⁺: the error lies in the ellipsoid of Cz P2 Czᵀ scaled by the energy.
+    /// Generalized H2 (Theorem 3.1 on (5.6)–(5.7)): e_z\[t]ᵀ Q\[t] e_z\[t] ≤ E_t at every step t, with
+    /// Q\[t] = (Cz P2\[t] Czᵀ)⁺: the error lies in the ellipsoid of Cz P2 Czᵀ scaled by the energy.
     Ellipsoid { weights: Vec<Mat> },
 }
 

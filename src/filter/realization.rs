@@ -3,9 +3,9 @@
 //!     s[k+1] = Af[k] s[k] + Bf[k] y[k] + Gf[k] r[k]
 //!     ẑ[k]   = Cf[k] s[k] + Df[k] y[k]
 //!
-//! with s[0] = s0 and gains that do not depend on the data. The Monte Carlo engine and the exact
+//! with s\[0] = s0 and gains that do not depend on the data. The Monte Carlo engine and the exact
 //! analysis only ever see this. A mode-indexed realization (seed 001) has one set of gains per
-//! (step, mode) and at step k uses those of the mode θ[k] it observes.
+//! (step, mode) and at step k uses those of the mode θ\[k] it observes.
 
 use crate::error::{Error, Result};
 use crate::model::plant::Pattern;
@@ -19,7 +19,7 @@ pub struct Gains {
     pub bf: Mat,
     pub cf: Mat,
     pub df: Mat,
-    /// How the known input r[k] (plant-state sized) enters the filter state; may have no columns
+    /// How the known input r\[k] (plant-state sized) enters the filter state; may have no columns
     /// when the plant has no known input (a filter built on another model than the truth's).
     pub gf: Mat,
 }
@@ -41,10 +41,10 @@ impl Gains {
 #[derive(Clone, Debug)]
 pub struct Realization {
     pub s0: Vector,
-    /// gains[k][θ] for k = 0..=N (the Af, Bf, Gf of step N are never used): one entry per mode of
+    /// gains\[k]\[θ] for k = 0..=N (the Af, Bf, Gf of step N are never used): one entry per mode of
     /// the plant for a mode-indexed realization, a single entry (used in every mode) otherwise.
     pub gains: Vec<Vec<Gains>>,
-    /// M: what the filter's state tracks, s[k] ≈ M x[k] (the identity for a state estimator), if
+    /// M: what the filter's state tracks, s\[k] ≈ M x\[k] (the identity for a state estimator), if
     /// the family declares it. The exact analysis and the Monte Carlo may then carry ε = s − M x
     /// instead of s, but only at steps and modes where they have checked that the realization
     /// keeps ε independent of x ([`crate::analysis::exact::error_form`]).
@@ -109,7 +109,7 @@ impl Realization {
         self.s0.len()
     }
 
-    /// ẑ[k] = Cf s + Df y in mode θ, written into `zhat`.
+    /// ẑ\[k] = Cf s + Df y in mode θ, written into `zhat`.
     #[inline]
     pub fn output(&self, k: usize, mode: usize, s: &Vector, y: &Vector, zhat: &mut Vector) {
         let g = self.gains(k, mode);
@@ -117,7 +117,7 @@ impl Realization {
         zhat.gemv(1.0, &g.df, y, 1.0);
     }
 
-    /// s[k+1] = Af s + Bf y + Gf r in mode θ, written into `next`.
+    /// s\[k+1] = Af s + Bf y + Gf r in mode θ, written into `next`.
     #[inline]
     pub fn advance(&self, k: usize, mode: usize, s: &Vector, y: &Vector, r: Option<&Vector>, next: &mut Vector) {
         let g = self.gains(k, mode);
@@ -128,7 +128,7 @@ impl Realization {
         }
     }
 
-    /// Checks sizes against the plant and, for prediction, that ẑ[k] does not use y[k].
+    /// Checks sizes against the plant and, for prediction, that ẑ\[k] does not use y\[k].
     pub fn check(&self, name: &str, plant: &Plant, pattern: Pattern) -> Result<()> {
         if self.gains.len() != plant.steps() {
             return Err(Error::design(

@@ -1,6 +1,6 @@
 //! Deterministic disturbances bounded in energy (seed 000 §5): a noise block d of w that is not
-//! random but an unknown sequence with Σ_k d[k]ᵀ W_k d[k] ≤ r (eq (36), time-varying weights W_k)
-//! and, optionally, d[k]ᵀ W_k d[k] ≤ r_k at every step (a convex set U of (33)–(35) that is not one
+//! random but an unknown sequence with Σ_k d\[k]ᵀ W_k d\[k] ≤ r (eq (36), time-varying weights W_k)
+//! and, optionally, d\[k]ᵀ W_k d\[k] ≤ r_k at every step (a convex set U of (33)–(35) that is not one
 //! ellipsoid). The minimax design treats it as white noise with covariance s W_k⁻¹ at step k
 //! (eqs (38)–(39); s = r without per-step bounds, see [`Disturbance::surrogate_scale`]); this module
 //! draws such sequences for the scenarios (random directions on the bound, or the worst case for a
@@ -13,8 +13,8 @@ use rand_distr::{Distribution, StandardNormal};
 use crate::model::plant::Plant;
 use crate::numerics::linalg::Mat;
 
-/// Energy bounds on one noise block: Σ_k d[k]ᵀ W_k d[k] ≤ energy and, if given,
-/// d[k]ᵀ W_k d[k] ≤ step_energy[k] for every step k = 0..N.
+/// Energy bounds on one noise block: Σ_k d\[k]ᵀ W_k d\[k] ≤ energy and, if given,
+/// d\[k]ᵀ W_k d\[k] ≤ step_energy\[k] for every step k = 0..N.
 #[derive(Clone, Debug)]
 pub struct Disturbance {
     /// W_k for k = 0..N (the one `weight` of the file repeated when it gives no `weights`).
@@ -33,7 +33,7 @@ impl Disturbance {
     /// s of the surrogate s W_k⁻¹ (seed 000 eqs (38)–(39)). The surrogate is honest when every
     /// admissible sequence has d dᵀ ⪯ blockdiag(s W_k⁻¹) (then the design's error at it bounds the
     /// error at d, Theorem 3). By Cauchy–Schwarz that holds iff Σ_k e_k / s ≤ 1 for every admissible
-    /// energy profile e_k = d[k]ᵀ W_k d[k], i.e. s ≥ max Σ e_k = min(r, Σ_k r_k): the paper's r
+    /// energy profile e_k = d\[k]ᵀ W_k d\[k], i.e. s ≥ max Σ e_k = min(r, Σ_k r_k): the paper's r
     /// without per-step bounds, and the smaller Σ r_k when the per-step bounds are the tighter ones.
     /// (Step-dependent s_k with max_e Σ e_k/s_k ≤ 1 are honest too; we keep the constant one.)
     pub fn surrogate_scale(&self) -> f64 {
@@ -80,7 +80,7 @@ impl<F> DisturbanceChoice<F> {
     }
 }
 
-/// Per-step mean of w: column k is the deterministic part of w[k] (zero outside disturbance blocks).
+/// Per-step mean of w: column k is the deterministic part of w\[k] (zero outside disturbance blocks).
 pub type WMean = Mat;
 
 pub(crate) fn offsets(plant: &Plant) -> Vec<usize> {
@@ -99,7 +99,7 @@ pub(crate) fn blocks<'a>(plant: &Plant, dist: &'a [Option<Disturbance>]) -> Vec<
     dist.iter().skip(1).enumerate().filter_map(|(b, d)| d.as_ref().map(|d| (b, off[b], d))).collect()
 }
 
-/// d[k]ᵀ W_k d[k] for a block's sequence (columns are steps).
+/// d\[k]ᵀ W_k d\[k] for a block's sequence (columns are steps).
 fn step_energies(seq: &Mat, d: &Disturbance) -> Vec<f64> {
     (0..seq.ncols()).map(|k| (seq.column(k).transpose() * &d.weights[k] * seq.column(k))[(0, 0)]).collect()
 }
@@ -128,7 +128,7 @@ pub fn random(plant: &Plant, dist: &[Option<Disturbance>], seed: u64) -> WMean {
     out
 }
 
-/// d[k]ᵀ W_k d[k] of the part of `wm` in block `b`, per step (for checks and reports).
+/// d\[k]ᵀ W_k d\[k] of the part of `wm` in block `b`, per step (for checks and reports).
 pub fn energies(plant: &Plant, wm: &WMean, b: usize, d: &Disturbance) -> Vec<f64> {
     let o = offsets(plant)[b];
     let m = plant.noise_blocks[b].1;

@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 #[derive(Clone, Debug, PartialEq)]
 pub enum Intensity {
     Constant(f64),
-    /// Piecewise linear through (times[i], values[i]), times strictly increasing, values ≥ 0.
+    /// Piecewise linear through (times\[i], values\[i]), times strictly increasing, values ≥ 0.
     Profile {
         times: Vec<f64>,
         values: Vec<f64>,

@@ -1,21 +1,23 @@
 //! The plant of docs/math.md §0 on a finite horizon k = 0..N:
 //!
-//!     x[k+1] = A x[k] + B w[k] + r[k],   x[0] ~ (x0_mean, S_x0)
-//!     y[k]   = C[k] x[k] + D w[k]         (no measurement before `first_measurement`; C[k] = C
-//!                                          unless the file gives one matrix per step)
-//!     z[k]   = Cz x[k] + Dz w[k]
+//! ```text
+//! x[k+1] = A x[k] + B w[k] + r[k],   x[0] ~ (x0_mean, S_x0)
+//! y[k]   = C[k] x[k] + D w[k]         (no measurement before `first_measurement`; C[k] = C
+//!                                      unless the file gives one matrix per step)
+//! z[k]   = Cz x[k] + Dz w[k]
+//! ```
 //!
 //! `w` stacks named noise blocks (seed 000: `w = (ε, w_meas)`, `B = [b 0]`, `D = [0 d]`); each block
 //! has its own covariance, so an uncertainty set can constrain one block and leave the others fixed.
 //!
 //! Markov-switching matrices (seed 001, docs/math.md §3): with `modes` the plant uses A_θ, B_θ, C_θ, D_θ of
-//! the mode θ[k] of a finite Markov chain with transition matrix Π (Π[s][k] = P(θ[n+1] = k | θ[n] = s))
+//! the mode θ\[k] of a finite Markov chain with transition matrix Π (Π\[s]\[k] = P(θ\[n+1] = k | θ\[n] = s))
 //! and initial distribution p(0), independent of x0 and of the noise.
 //!
 //! Measurement dropouts (seed 003 (4.30), docs/math.md §0) are the two-mode case of independent modes: with
-//! [`Measurement::Dropout`] the measurement is y[k] = λ[k] C x[k] + D w[k], λ[k] ~ Bernoulli(p),
+//! [`Measurement::Dropout`] the measurement is y\[k] = λ\[k] C x\[k] + D w\[k], λ\[k] ~ Bernoulli(p),
 //! i.e. mode 0 ("lost", C_0 = 0) with probability 1 − p and mode 1 ("arrived", C_1 = C) with
-//! probability p, every row of Π equal to (1 − p, p). Equivalently C[k] = p C + (λ[k] − p) C, the
+//! probability p, every row of Π equal to (1 − p, p). Equivalently C\[k] = p C + (λ\[k] − p) C, the
 //! multiplicative noise form the anisotropic family is written in. The modes of a dropout plant
 //! are derived from p and the plant's matrices when asked for, never stored beside them.
 
@@ -28,7 +30,7 @@ use crate::numerics::linalg::{Mat, Vector, block_diag};
 /// How the measurement depends on a random mode (docs/math.md §0, §3).
 #[derive(Clone, Debug)]
 pub enum Measurement {
-    /// y[k] = C[k] x[k] + D w[k] at every measured step.
+    /// y\[k] = C\[k] x\[k] + D w\[k] at every measured step.
     Always,
     /// Seed 003 (4.30): the measurement arrives with probability `arrival`, independently over k.
     Dropout { arrival: f64 },
@@ -36,7 +38,7 @@ pub enum Measurement {
     Markov(Modes),
 }
 
-/// Information pattern (docs/math.md §0): filtering lets ẑ[k] use y[k]; prediction uses y[0..k-1] only.
+/// Information pattern (docs/math.md §0): filtering lets ẑ\[k] use y\[k]; prediction uses y\[0..k-1] only.
 #[derive(Clone, Copy, Debug, serde::Deserialize, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Pattern {
@@ -106,7 +108,7 @@ pub struct Plant {
     pub horizon: usize,
     pub a: Steps,
     pub b: Steps,
-    /// C[k] where a measurement is taken (see [`Plant::c_at`] for the steps before the first).
+    /// C\[k] where a measurement is taken (see [`Plant::c_at`] for the steps before the first).
     pub c: Steps,
     pub d: Steps,
     pub cz: Steps,
@@ -114,7 +116,7 @@ pub struct Plant {
     pub x0_mean: Vector,
     /// Steps k < first_measurement have no measurement (seed 000 measures from n = 1).
     pub first_measurement: usize,
-    /// r[k] for k = 0..N-1 (all zero when the file gives none). The filters know it.
+    /// r\[k] for k = 0..N-1 (all zero when the file gives none). The filters know it.
     pub known_input: Vec<Vector>,
     /// Names and sizes of the blocks of w, in the order they are stacked.
     pub noise_blocks: Vec<(String, usize)>,
@@ -190,27 +192,27 @@ impl Plant {
     pub fn time_varying(&self) -> bool {
         [&self.a, &self.b, &self.c, &self.d, &self.cz, &self.dz].iter().any(|s| s.varies())
     }
-    /// A[k].
+    /// A\[k].
     #[inline]
     pub fn a_at(&self, k: usize) -> &Mat {
         self.a.at(k)
     }
-    /// B[k].
+    /// B\[k].
     #[inline]
     pub fn b_at(&self, k: usize) -> &Mat {
         self.b.at(k)
     }
-    /// Cz[k].
+    /// Cz\[k].
     #[inline]
     pub fn cz_at(&self, k: usize) -> &Mat {
         self.cz.at(k)
     }
-    /// Dz[k].
+    /// Dz\[k].
     #[inline]
     pub fn dz_at(&self, k: usize) -> &Mat {
         self.dz.at(k)
     }
-    /// C[k]: zero before the first measurement.
+    /// C\[k]: zero before the first measurement.
     pub fn c_at(&self, k: usize) -> Cow<'_, Mat> {
         if self.measured(k) {
             Cow::Borrowed(self.c.at(k))
@@ -218,7 +220,7 @@ impl Plant {
             Cow::Owned(Mat::zeros(self.c.nrows(), self.c.ncols()))
         }
     }
-    /// D[k]: zero before the first measurement.
+    /// D\[k]: zero before the first measurement.
     pub fn d_at(&self, k: usize) -> Cow<'_, Mat> {
         if self.measured(k) {
             Cow::Borrowed(self.d.at(k))
@@ -233,11 +235,11 @@ impl Plant {
             _ => None,
         }
     }
-    /// p(1 − p), the variance of λ[k] (0 without dropouts).
+    /// p(1 − p), the variance of λ\[k] (0 without dropouts).
     pub fn dropout_variance(&self) -> f64 {
         self.arrival().map_or(0.0, |p| p * (1.0 - p))
     }
-    /// E λ[k] = p (1 without dropouts).
+    /// E λ\[k] = p (1 without dropouts).
     pub fn arrival_mean(&self) -> f64 {
         self.arrival().unwrap_or(1.0)
     }
@@ -265,7 +267,7 @@ impl Plant {
     pub fn switches(&self) -> bool {
         !matches!(self.measurement, Measurement::Always)
     }
-    /// Π, the transition matrix of the modes ([1] for a plant that does not switch).
+    /// Π, the transition matrix of the modes (\[1] for a plant that does not switch).
     pub fn transition(&self) -> Mat {
         match &self.measurement {
             Measurement::Always => Mat::identity(1, 1),
@@ -289,21 +291,21 @@ impl Plant {
             Measurement::Markov(m) => m.names.len(),
         }
     }
-    /// A_θ[k] (a Markov plant's modes have constant matrices).
+    /// A_θ\[k] (a Markov plant's modes have constant matrices).
     pub fn a_of(&self, k: usize, mode: usize) -> &Mat {
         match &self.measurement {
             Measurement::Markov(m) => m.a[mode].at(k),
             _ => self.a.at(k),
         }
     }
-    /// B_θ[k].
+    /// B_θ\[k].
     pub fn b_of(&self, k: usize, mode: usize) -> &Mat {
         match &self.measurement {
             Measurement::Markov(m) => m.b[mode].at(k),
             _ => self.b.at(k),
         }
     }
-    /// C_θ[k]: zero before the first measurement and when a measurement is lost.
+    /// C_θ\[k]: zero before the first measurement and when a measurement is lost.
     pub fn c_of(&self, k: usize, mode: usize) -> Cow<'_, Mat> {
         match &self.measurement {
             Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(m.c[mode].at(k)),
@@ -311,14 +313,14 @@ impl Plant {
             _ => self.c_at(k),
         }
     }
-    /// D_θ[k]: zero before the first measurement.
+    /// D_θ\[k]: zero before the first measurement.
     pub fn d_of(&self, k: usize, mode: usize) -> Cow<'_, Mat> {
         match &self.measurement {
             Measurement::Markov(m) if self.measured(k) => Cow::Borrowed(m.d[mode].at(k)),
             _ => self.d_at(k),
         }
     }
-    /// p(k) = P(θ[k] = ·) for k = 0..N ([1] for a plant that does not switch).
+    /// p(k) = P(θ\[k] = ·) for k = 0..N (\[1] for a plant that does not switch).
     pub fn mode_probabilities(&self) -> Vec<Vec<f64>> {
         let (pi, mut p) = (self.transition(), self.initial());
         let mut out = Vec::with_capacity(self.steps());
@@ -328,12 +330,12 @@ impl Plant {
         }
         out
     }
-    /// Whether θ[k] are independent over k with one distribution (every row of Π equal to p(0)).
+    /// Whether θ\[k] are independent over k with one distribution (every row of Π equal to p(0)).
     pub fn independent_modes(&self) -> bool {
         let (pi, p0) = (self.transition(), self.initial());
         (0..pi.nrows()).all(|s| (0..p0.len()).all(|k| pi[(s, k)] == p0[k]))
     }
-    /// r[k], or None when the plant has no known input.
+    /// r\[k], or None when the plant has no known input.
     pub fn r_at(&self, k: usize) -> Option<&Vector> {
         self.known_input.get(k)
     }
@@ -355,9 +357,9 @@ impl Plant {
 #[derive(Clone, Debug)]
 pub struct Modes {
     pub names: Vec<String>,
-    /// Π[s][k] = P(θ[n+1] = k | θ[n] = s): rows sum to 1.
+    /// Π\[s]\[k] = P(θ\[n+1] = k | θ\[n] = s): rows sum to 1.
     pub transition: Mat,
-    /// p(0) = P(θ[0] = ·).
+    /// p(0) = P(θ\[0] = ·).
     pub initial: Vec<f64>,
     /// Each mode's matrices, per step on a time-varying plant (a mode that does not override a
     /// matrix has the plant's, varying as it does).
@@ -398,7 +400,7 @@ impl Modes {
 }
 
 /// One covariance per block: `blocks[0]` is the covariance of x0, `blocks[1..]` those of the noise
-/// blocks of w, in the plant's order. The noise is white in time with W = blockdiag(blocks[1..]).
+/// blocks of w, in the plant's order. The noise is white in time with W = blockdiag(blocks\[1..]).
 ///
 /// `varying` overrides a block's covariance step by step (index into `blocks`, one matrix per step
 /// k = 0..N). Only the designs' surrogate of a deterministic disturbance with time-varying weights
@@ -419,7 +421,7 @@ impl Covariances {
     pub fn varies(&self) -> bool {
         !self.varying.is_empty()
     }
-    /// W[k]: [`Covariances::w`] with the step-k matrix of every varying block.
+    /// W\[k]: [`Covariances::w`] with the step-k matrix of every varying block.
     pub fn w_at(&self, k: usize) -> Mat {
         if self.varying.is_empty() {
             return self.w();
@@ -433,7 +435,7 @@ impl Covariances {
     pub fn x0(&self) -> &Mat {
         &self.blocks[0]
     }
-    /// W = cov w[k] = blockdiag of the noise blocks.
+    /// W = cov w\[k] = blockdiag of the noise blocks.
     pub fn w(&self) -> Mat {
         let refs: Vec<&Mat> = self.blocks[1..].iter().collect();
         block_diag(&refs)

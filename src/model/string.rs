@@ -3,15 +3,15 @@
 //! intensity W_m, sampled every Δ.
 //!
 //! **Truth.** u = Σ_{k ≤ M} a_k(t) e_k(ξ), e_k = sqrt(2/L) sin(kπξ/L), and the forcing v is white in
-//! time with a spatial covariance diagonal in the eigenfunctions, E[(v, e_k)(v, e_l)] = q_k δ_kl δ(t),
+//! time with a spatial covariance diagonal in the eigenfunctions, E\[(v, e_k)(v, e_l)] = q_k δ_kl δ(t),
 //! q_k = q0 k^{−decay} (smooth: the modal intensities decay). Each mode is an oscillator
 //! ä = −ω_k² a + v_k, ω_k = c kπ/L, discretized exactly: Φ_k = [[cos ωΔ, sin ωΔ/ω], [−ω sin ωΔ, cos ωΔ]]
 //! and the integrated noise covariance
 //! Q_k = q_k [[Δ/(2ω²) − sin 2ωΔ/(4ω³), sin² ωΔ/(2ω²)], [sin² ωΔ/(2ω²), Δ/2 + sin 2ωΔ/(4ω)]],
 //! so the truth is exact at the sample times.
 //!
-//! **Measurements.** y_j[k] = (1/h)∫_{s_j−h/2}^{s_j+h/2} u(ξ, t_k) dξ + w_j[k], the sampled form of
-//! continuous white noise of intensity W_m = G Gᵀ: cov w[k] = W_m/Δ. With fewer noise sources than
+//! **Measurements.** y_j\[k] = (1/h)∫_{s_j−h/2}^{s_j+h/2} u(ξ, t_k) dξ + w_j\[k], the sampled form of
+//! continuous white noise of intensity W_m = G Gᵀ: cov w\[k] = W_m/Δ. With fewer noise sources than
 //! sensors (G is m × r, r < m) W_m is singular: the problem seed 004 regularizes.
 //!
 //! **Projections on a growing family** (seed 004 (3), Lemmas 2–3, Theorem 2: r_m = the projections of
@@ -24,7 +24,7 @@
 //! **Time-varying intensities** (seed 004's 𝒱(τ), 𝒲(τ)). q0 and w0 (for windows, the factor of
 //! W_m = w0 G Gᵀ) may follow a time profile ([`crate::model::intensity`]): over step k the forcing
 //! covariance is s_k Q and the measurement noise covariance r_k W_m/Δ, s_k and r_k the profiles'
-//! means over the step; the truth carries them as B[k] = [√s_k I, 0], D[k] = [0, √r_k I] on the
+//! means over the step; the truth carries them as B\[k] = [√s_k I, 0], D\[k] = [0, √r_k I] on the
 //! unit-profile covariances.
 //!
 //! **Estimated.** z = u at chosen points ξ_p.
@@ -393,7 +393,7 @@ fn observation(f: &StringFile) -> Result<(Observation, Mat, Intensity)> {
     Ok((obs, symmetrize(&(&r * r.transpose())), noise))
 }
 
-/// x[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q), w_m ~ (0, R) and x0 ~ (0, X0)
+/// x\[k+1] = A x + w_p, y = C x + w_m, z = Cz x with w_p ~ (0, Q), w_m ~ (0, R) and x0 ~ (0, X0)
 /// independent (X0 = 0: a string at rest): the sampled form of the truth and of every Galerkin
 /// model, with noise blocks `process` and `measurement`.
 pub fn sampled(horizon: usize, a: Mat, c: Mat, cz: Mat, q: Mat, r: Mat, x0: Mat) -> (Plant, Covariances) {

@@ -65,7 +65,7 @@ pub fn min_eigenvalue(m: &Mat) -> f64 {
 }
 
 /// A factor L with L Lᵀ = S for a symmetric PSD S, singular S included: Cholesky when it succeeds,
-/// otherwise the eigen-factor V·sqrt(max(Λ, 0)). Sampling w = L u with E[uuᵀ] = I then has
+/// otherwise the eigen-factor V·sqrt(max(Λ, 0)). Sampling w = L u with E\[uuᵀ] = I then has
 /// covariance exactly S, whatever the law of u.
 pub fn psd_factor(s: &Mat) -> Mat {
     if let Some(ch) = nalgebra::Cholesky::new(symmetrize(s)) {

@@ -10,7 +10,9 @@
 //! unit roundoff ε/2). Since ‖ |L| |Lᵀ| ‖₂ ≤ ‖L‖_F² = tr(L Lᵀ) = tr S (to first order in u),
 //! ‖E‖₂ ≤ γ_{3m+1} tr S, and the standard perturbation bound gives the relative error
 //!
-//!     ‖x̂ − x‖ / ‖x‖ ≤ t / (1 − t),     t = γ_{3m+1} tr S / λ_min(S) ≤ m γ_{3m+1} κ₂(S),
+//! ```text
+//! ‖x̂ − x‖ / ‖x‖ ≤ t / (1 − t),     t = γ_{3m+1} tr S / λ_min(S) ≤ m γ_{3m+1} κ₂(S),
+//! ```
 //!
 //! the condition number κ₂(S) = λ_max/λ_min times a multiple of ε: [`solve_error`]. (tr S rather
 //! than m λ_max: where few eigenvalues are large, as with a low-rank W_m, the bound is m times

@@ -4,7 +4,9 @@
 //! filter share (docs/math.md §0, §1, §3, §4), and seed 004's regularized Galerkin filter (its Kalman–Bucy
 //! gain P Cᵀ S_α⁻¹, seed 004 eq (6)) with it:
 //!
-//!     S = C P Cᵀ + D W Dᵀ,   K = (A P Cᵀ + B W Dᵀ) S⁺,   P' = A P Aᵀ + B W Bᵀ − K S Kᵀ.
+//! ```text
+//! S = C P Cᵀ + D W Dᵀ,   K = (A P Cᵀ + B W Dᵀ) S⁺,   P' = A P Aᵀ + B W Bᵀ − K S Kᵀ.
+//! ```
 //!
 //! The noise terms D W Dᵀ, B W Dᵀ and B W Bᵀ come precomputed: each caller weights them its own way
 //! (by the mode probability p_s in seed 001) and keeps the product order it has always used, so

@@ -25,7 +25,7 @@ pub struct DesignedFilter {
     pub deterministic_error: f64,
     /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
     pub claimed: Option<Claimed>,
-    /// Its NEES weight per step, P_z[k]⁺ / rank, where it claims a covariance ([`crate::analysis::nees`]).
+    /// Its NEES weight per step, P_z\[k]⁺ / rank, where it claims a covariance ([`crate::analysis::nees`]).
     pub nees_weights: Option<Vec<Option<Mat>>>,
     /// Its generalized H2 norm² under the nominal weights ([`crate::analysis::hinf::generalized_h2_norm_sq`]);
     /// None on a switching plant or when the stacked operator would be too large.
@@ -44,7 +44,7 @@ fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
     crate::analysis::hinf::generalized_h2_norm_sq(p, real, &exp.nominal).map(Some)
 }
 
-/// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P[k] Czᵀ)
+/// A filter's own belief about its error: the error at its design covariance, Σ_k tr(Cz P\[k] Czᵀ)
 /// with P its design Riccati solution (Kalman, intermittent, Markov-jump: at `design`; minimax: at
 /// K̂). It is not a promise: under another covariance the filter does not know it is wrong, and
 /// `exact / claimed` (the consistency) says by how much.
@@ -118,7 +118,7 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
 }
 
 /// A filter's exact |||F|||²_a at the experiment's level a and its limits ‖F‖₂²/lw (a = 0) and
-/// ‖F‖∞² (a → ∞), from the eigenvalues of one Λ = E[𝓕ᵀ𝓕] or by Lemma 1 (seed 003 §2).
+/// ‖F‖∞² (a → ∞), from the eigenvalues of one Λ = E\[𝓕ᵀ𝓕] or by Lemma 1 (seed 003 §2).
 #[derive(Clone, Copy, Debug)]
 pub struct AnisotropicFigures {
     pub norm_sq: f64,

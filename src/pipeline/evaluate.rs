@@ -253,7 +253,7 @@ fn ratio_check<'a>(exp: &Experiment, filters: &'a [DesignedFilter]) -> Option<Ra
     })
 }
 
-/// E|W|² and the Gaussian anisotropy of W = col(w[0..N]) for a scenario's input (docs/math.md §5).
+/// E|W|² and the Gaussian anisotropy of W = col(w\[0..N]) for a scenario's input (docs/math.md §5).
 ///
 /// The anisotropy is exact for W = L u with L square and u i.i.d. of the scenario's shape: the
 /// Gaussian formula plus lw times the shape's negentropy h_G − h(u) (seed 003 §2 with

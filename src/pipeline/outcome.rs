@@ -28,17 +28,17 @@ pub struct ScenarioOutcome {
     /// The covariances noise was drawn with (disturbance blocks zero).
     pub covariances: Covariances,
     pub disturbance_label: String,
-    /// The deterministic disturbance (column k added to w[k]), if any.
+    /// The deterministic disturbance (column k added to w\[k]), if any.
     pub disturbance: Option<Mat>,
     pub exact: Vec<ExactError>,
-    /// E|W|² of W = col(w[0..N]) (noise and any deterministic disturbance).
+    /// E|W|² of W = col(w\[0..N]) (noise and any deterministic disturbance).
     pub input_power: f64,
     /// The anisotropy of a Gaussian W with the scenario's covariance (None when W is degenerate).
     pub input_anisotropy: Option<f64>,
     pub mc: McStats,
     pub mc_seconds: f64,
     pub trajectories: Vec<Trajectory>,
-    /// The noise-free z̄[k] the sample trials scatter around (seed 003 Figs. 3–4, columns are
+    /// The noise-free z̄\[k] the sample trials scatter around (seed 003 Figs. 3–4, columns are
     /// steps: [`crate::analysis::noise_free::noise_free_output`]); None without a known input.
     pub noise_free: Option<Mat>,
     /// With `--per-trial`: per filter, the summed error J of every trial in trial order (else empty).

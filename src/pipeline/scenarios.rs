@@ -21,7 +21,7 @@ pub struct Setup {
     pub covariances: Covariances,
     pub covariance_label: String,
     pub disturbance_label: String,
-    /// The deterministic disturbance (column k added to w[k]), if any.
+    /// The deterministic disturbance (column k added to w\[k]), if any.
     pub w_mean: Option<Mat>,
     pub joint: Option<JointInput>,
     /// The joint input's mean and covariance, which its exact error is computed from.
@@ -96,8 +96,8 @@ pub fn scenario_covariances(exp: &Experiment, filters: &[DesignedFilter]) -> Res
 /// Whether a filter's `guarantee` is a promise in a scenario: the minimax bound holds for every
 /// covariance of its sets (any shape, any disturbance within its energy bound), so where the
 /// scenario's covariance lies in every set and its inputs are independent; `exact_at_design` is
-/// the filter's belief ([`Claimed`]), never a promise. With disturbances the bound printed is the
-/// filter's certified worst case over the sets and the sequences (any number of blocks;
+/// the filter's belief ([`Claimed`](super::design::Claimed)), never a promise. With disturbances the
+/// bound printed is the filter's certified worst case over the sets and the sequences (any number of blocks;
 /// [`super::outcome::FilterOutcome`]), so it holds wherever the covariance lies in the sets.
 pub fn guarantee_holds(exp: &Experiment, design: &Design, cov: &Covariances, joint: bool) -> bool {
     let Some(g) = &design.guarantee else { return false };
@@ -149,7 +149,7 @@ fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice
     })
 }
 
-/// J = col(x0 − E x0, w[0..N]) with x0 at its nominal covariance and W = col(w[0..N]) ~ (0, Σ).
+/// J = col(x0 − E x0, w\[0..N]) with x0 at its nominal covariance and W = col(w\[0..N]) ~ (0, Σ).
 fn anisotropic_input(exp: &Experiment, sigma: &Mat) -> JointInput {
     let factor = crate::numerics::linalg::block_diag(&[
         &crate::numerics::linalg::psd_factor(exp.nominal.x0()),

@@ -1,16 +1,16 @@
 //! One block of [`LANES`] trials simulated together (docs/math.md §6): the plant
-//! x[k+1] = A_θ x + B_θ w + Σ_i ζ_i (A_i x + B_i w) + r, y = C_θ x + D_θ w + …, z = Cz x + Dz w + …
+//! x\[k+1] = A_θ x + B_θ w + Σ_i ζ_i (A_i x + B_i w) + r, y = C_θ x + D_θ w + …, z = Cz x + Dz w + …
 //! (seed 003 (3.1) for the factors, seed 001 (1) for the modes), and every filter on the same y
-//! (common random numbers), s[k+1] = Af s + Bf y + Gf r, ẑ = Cf s + Df y, or in error coordinates
-//! ε[k+1] = F ε + E w + R r, e = H ε + G w ([`crate::analysis::exact::error_form`]).
+//! (common random numbers), s\[k+1] = Af s + Bf y + Gf r, ẑ = Cf s + Df y, or in error coordinates
+//! ε\[k+1] = F ε + E w + R r, e = H ε + G w ([`crate::analysis::exact::error_form`]).
 //! Each step is a few products of a matrix with the block's n × LANES lane matrices.
 
 use crate::analysis::exact::ErrorForm;
 use crate::numerics::linalg::Mat;
 use crate::numerics::linop::LinOp;
 use crate::sim::lanes::{self, LANES, Row};
-use crate::sim::montecarlo::Scenario;
 use crate::sim::noise::LaneDraw;
+use crate::sim::scenario::Scenario;
 
 /// Preallocated per-thread buffers: a block allocates nothing.
 pub struct Workspace {
@@ -25,7 +25,7 @@ pub struct Workspace {
     /// Each filter's state (or error state ε) at the current step.
     pub(super) s: Vec<Vec<Row>>,
     s_next: Vec<Vec<Row>>,
-    /// r[k] in every lane.
+    /// r\[k] in every lane.
     r: Vec<Row>,
     tmp: Vec<Row>,
     /// Two vectors' room (of the plant's state size or more) for the per-trial checks.
@@ -133,16 +133,16 @@ pub struct StepView<'a> {
     pub zhat: &'a [Row],
     /// e = z − ẑ.
     pub e: &'a [Row],
-    /// The lanes' input energy E_k before w[k] (maintained only with per-trial checks).
+    /// The lanes' input energy E_k before w\[k] (maintained only with per-trial checks).
     pub energy: &'a Row,
-    /// θ[k] per lane.
+    /// θ\[k] per lane.
     pub modes: &'a [u32; LANES],
 }
 
 /// Simulates trials first..first+active in the lanes of `ws` and calls `visit` for each step k and
 /// filter f. A filter with an error form carries ε = s − M x instead of s and
 /// gets e from ε and w directly; its ẑ is then z − e, for display only. On return `ws` holds
-/// x[N] and every filter's final state.
+/// x\[N] and every filter's final state.
 pub fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {

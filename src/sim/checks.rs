@@ -1,14 +1,15 @@
 //! Seed 002's per-trial promises, checked in lanes: the generalized H2 ellipsoid
-//! e_z[t]ᵀ Q[t] e_z[t] ≤ E_t at every step (Theorem 3.1 on (5.6)–(5.7)), as each error arrives, and
-//! the H∞-λ ratio (Σ_{k<N} |e_z[k]|² + e[N]ᵀ S e[N]) / E_N < bound ((5.9)–(5.10)) once the block
+//! e_z\[t]ᵀ Q\[t] e_z\[t] ≤ E_t at every step (Theorem 3.1 on (5.6)–(5.7)), as each error arrives, and
+//! the H∞-λ ratio (Σ_{k<N} |e_z\[k]|² + e\[N]ᵀ S e\[N]) / E_N < bound ((5.9)–(5.10)) once the block
 //! has ended. E_t is the input energy of the trial so far ([`crate::sim::block::Workspace`]).
 
 use crate::filter::design::PerTrialBound;
 use crate::sim::block::Workspace;
 use crate::sim::lanes::{self, LANES, Row};
-use crate::sim::montecarlo::{FilterStats, Scenario};
+use crate::sim::mc_stats::FilterStats;
+use crate::sim::scenario::Scenario;
 
-/// The ellipsoid check of filter f at step k: e = e_z[k], `energy` = E_k; a lane that breaks it
+/// The ellipsoid check of filter f at step k: e = e_z\[k], `energy` = E_k; a lane that breaks it
 /// at any step is marked in `broke`.
 pub fn ellipsoid(
     sc: &Scenario,
@@ -34,8 +35,8 @@ pub fn ellipsoid(
     }
 }
 
-/// The ratio check of filter f once the block has ended (`ws` holds x[N], the final states and
-/// E_N): `sums` holds Σ_{k<N} |e_z[k]|² per lane, e = x − s, in error coordinates
+/// The ratio check of filter f once the block has ended (`ws` holds x\[N], the final states and
+/// E_N): `sums` holds Σ_{k<N} |e_z\[k]|² per lane, e = x − s, in error coordinates
 /// x − s = (I − M) x − ε, = −ε for M = I.
 pub fn terminal(sc: &Scenario, ws: &mut Workspace, f: usize, sums: &Row, active: usize, st: &mut FilterStats) {
     let Some(Some(PerTrialBound::Ratio { bound, terminal_weight })) = sc.ratios.map(|rc| rc.bounds[f]) else {

@@ -94,7 +94,7 @@ pub fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
     }
 }
 
-/// out ← out + α v in every lane (a known input r[k], a mean).
+/// out ← out + α v in every lane (a known input r\[k], a mean).
 #[inline(always)]
 pub fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
     for (o, &a) in out.iter_mut().zip(v) {

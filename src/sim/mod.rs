@@ -3,8 +3,10 @@
 pub mod block;
 mod checks;
 pub mod lanes;
+pub mod mc_stats;
 pub mod montecarlo;
 pub mod noise;
 mod plant_ops;
+pub mod scenario;
 pub mod stats;
 pub mod tree;

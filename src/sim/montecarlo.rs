@@ -11,121 +11,21 @@
 
 use rayon::prelude::*;
 
-use crate::analysis::exact::ErrorForm;
-use crate::filter::design::PerTrialBound;
-use crate::filter::realization::Realization;
-use crate::model::plant::Plant;
 use crate::numerics::linalg::Mat;
 use crate::sim::block::{Workspace, simulate};
 use crate::sim::checks;
 use crate::sim::lanes::{self, LANES};
-use crate::sim::noise::NoiseSampler;
+// The engine's inputs and outputs live below it (so that the block loop, the checks and the tree
+// need not import the engine); re-exported here, where callers look for them.
+pub use crate::sim::mc_stats::{FilterStats, McStats};
 pub use crate::sim::plant_ops::PlantOps;
+pub use crate::sim::scenario::{RatioCheck, Scenario};
 use crate::sim::stats::Welford;
 use crate::sim::tree::{Node, Tree};
 
 /// Trials per block: the lanes simulated together, the unit of parallel work and of the fixed
 /// reduction order.
 pub const BLOCK: u64 = LANES as u64;
-
-/// Per-filter statistics of one scenario.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FilterStats {
-    /// Summed squared error J over the steps that count, one value per trial.
-    pub total: Welford,
-    /// Squared error |z[k] − ẑ[k]|² at each step.
-    pub steps: Vec<Welford>,
-    /// For a filter with a per-trial bound: the largest ratio seen and the trials at or above it.
-    pub max_ratio: f64,
-    pub violations: u64,
-    /// e[k]ᵀ W[k] e[k] at each step, for a filter with a claimed covariance ([`crate::analysis::nees`]);
-    /// empty otherwise (and at a step without a weight the accumulator stays empty).
-    pub nees: Vec<Welford>,
-}
-
-/// Everything one scenario's Monte Carlo run accumulates.
-#[derive(Clone, Debug, PartialEq)]
-pub struct McStats {
-    pub filters: Vec<FilterStats>,
-    /// Paired differences J_i − J_j of the summed error on the same draws, for i < j, in the order
-    /// (0,1), (0,2), …, (1,2), …: their CI is much narrower than that of either mean.
-    pub paired: Vec<Welford>,
-}
-
-impl McStats {
-    pub fn new(sc: &Scenario) -> Self {
-        let (nf, steps) = (sc.filters.len(), sc.plant.steps());
-        McStats {
-            filters: (0..nf)
-                .map(|f| FilterStats {
-                    total: Welford::default(),
-                    steps: vec![Welford::default(); steps],
-                    max_ratio: 0.0,
-                    violations: 0,
-                    nees: if sc.nees_weights(f).is_some() { vec![Welford::default(); steps] } else { Vec::new() },
-                })
-                .collect(),
-            paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
-        }
-    }
-    pub(crate) fn merge(&mut self, o: &McStats) {
-        for (a, b) in self.filters.iter_mut().zip(&o.filters) {
-            a.total.merge(&b.total);
-            a.max_ratio = a.max_ratio.max(b.max_ratio);
-            a.violations += b.violations;
-            for (x, y) in a.steps.iter_mut().zip(&b.steps).chain(a.nees.iter_mut().zip(&b.nees)) {
-                x.merge(y);
-            }
-        }
-        for (a, b) in self.paired.iter_mut().zip(&o.paired) {
-            a.merge(b);
-        }
-    }
-    /// Whether `o` has the same accumulators (filters, steps, NEES, pairs): only then do they merge.
-    pub fn same_shape(&self, o: &McStats) -> bool {
-        let f = |m: &McStats| m.filters.iter().map(|f| (f.steps.len(), f.nees.len())).collect::<Vec<_>>();
-        self.paired.len() == o.paired.len() && f(self) == f(o)
-    }
-    /// The pairs (i, j) in the order of `paired`.
-    pub fn pairs(nf: usize) -> Vec<(usize, usize)> {
-        (0..nf).flat_map(|i| (i + 1..nf).map(move |j| (i, j))).collect()
-    }
-}
-
-/// What the engine needs to run one scenario.
-pub struct Scenario<'a> {
-    pub plant: &'a Plant,
-    /// The plant's matrices as the trial loop applies them.
-    pub ops: &'a PlantOps,
-    pub filters: &'a [&'a Realization],
-    pub sampler: &'a NoiseSampler,
-    pub seed: u64,
-    pub index: usize,
-    /// Per-trial ratio checks (seed 002), if any filter has one.
-    pub ratios: Option<&'a RatioCheck<'a>>,
-    /// Per filter, the NEES weights W[k] of a filter with a claimed covariance (empty: none).
-    pub nees: &'a [Option<Vec<Option<Mat>>>],
-    /// Per filter, its error form when it is simulated in error coordinates ε = s − M x (the plant's
-    /// state is then never differenced); empty or None: the filter's own state s.
-    pub forms: &'a [Option<ErrorForm>],
-}
-
-impl Scenario<'_> {
-    pub(super) fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
-        self.nees.get(f)?.as_deref()
-    }
-    pub(super) fn form(&self, f: usize) -> Option<&ErrorForm> {
-        self.forms.get(f).and_then(Option::as_ref)
-    }
-}
-
-/// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w[k], k < N) and, per filter, its
-/// per-trial bound, if it has one.
-pub struct RatioCheck<'a> {
-    pub x0_weight: Mat,
-    pub w_weight: Mat,
-    pub bounds: Vec<Option<&'a PerTrialBound>>,
-}
 
 /// Runs block `first..first + active` and returns its statistics: per (filter, step) the mean and
 /// spread over the block's lanes ([`Welford::of`]), ready to be merged in block order; and per
@@ -237,13 +137,13 @@ pub fn run(sc: &Scenario, trials: u64, progress: &(dyn Fn(u64) + Sync)) -> McSta
     reduce(sc, run_range(sc, trials, 0..blocks(trials), false, progress).nodes)
 }
 
-/// One recorded trial: the truth z[k] and every filter's estimate ẑ[k] (columns are steps).
+/// One recorded trial: the truth z\[k] and every filter's estimate ẑ\[k] (columns are steps).
 #[derive(Clone, Debug)]
 pub struct Trajectory {
     pub trial: u64,
     pub z: Mat,
     pub zhat: Vec<Mat>,
-    /// θ[k], the plant's mode at each step (for dropouts 0 = lost).
+    /// θ\[k], the plant's mode at each step (for dropouts 0 = lost).
     pub modes: Vec<usize>,
 }
 

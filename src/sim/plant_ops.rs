@@ -7,7 +7,7 @@ use crate::numerics::linalg::Mat;
 use crate::numerics::linop::LinOp;
 
 /// The plant's matrices as [`LinOp`]s (sparse when large and mostly zero), each distinct matrix
-/// converted once: A_θ[k], B_θ[k], C_θ[k], D_θ[k] per step and mode, Cz[k], Dz[k], and each
+/// converted once: A_θ\[k], B_θ\[k], C_θ\[k], D_θ\[k] per step and mode, Cz\[k], Dz\[k], and each
 /// multiplicative factor's matrices per step.
 pub struct PlantOps {
     pub(super) ops: Vec<LinOp>,

@@ -11,7 +11,7 @@
 //! every shard's nodes in block order rebuilds the one-machine stack exactly. The remaining stack
 //! is folded left to right ([`Tree::finish`]).
 
-use crate::sim::montecarlo::McStats;
+use crate::sim::mc_stats::McStats;
 
 /// One node of the tree: the merged statistics of blocks [index·2^level, (index+1)·2^level).
 #[derive(Clone, Debug, PartialEq)]

@@ -22,7 +22,9 @@ pub fn error_in_error_coordinates(
 /// A realization in error coordinates ε = s − M x: with T_j = Af M + Bf C_j − M A_j = 0 and
 /// Cz − Df C_j − Cf M = 0 at every step and mode (checked, not assumed),
 ///
-///     ε[k+1] = Af ε + (Bf D_j − M B_j) w + (Gf − M) r,   e[k] = −Cf ε + (Dz − Df D_j) w,
+/// ```text
+/// ε[k+1] = Af ε + (Bf D_j − M B_j) w + (Gf − M) r,   e[k] = −Cf ε + (Dz − Df D_j) w,
+/// ```
 ///
 /// so x drops out and neither the exact moments nor a simulated trial ever difference it.
 #[derive(Clone, Debug)]

@@ -1,22 +1,24 @@
 //! Exact second moments of a realization's error (docs/math.md §0, "exact" column): the augmented state
-//! ξ = (x, s) obeys, in mode θ[k] = j (one mode for a plant that does not switch),
+//! ξ = (x, s) obeys, in mode θ\[k] = j (one mode for a plant that does not switch),
 //!
-//!     ξ[k+1] = F_j ξ[k] + E_j w[k] + c_j[k],   e[k] = z[k] − ẑ[k] = H_j ξ[k] + G_j w[k]
-//!     F_j = [[A_j, 0], [Bf C_j, Af]],  E_j = [B_j; Bf D_j],  H_j = [Cz − Df C_j, −Cf],  G_j = Dz − Df D_j,
-//!     c_j = (r, Gf r),
+//! ```text
+//! ξ[k+1] = F_j ξ[k] + E_j w[k] + c_j[k],   e[k] = z[k] − ẑ[k] = H_j ξ[k] + G_j w[k]
+//! F_j = [[A_j, 0], [Bf C_j, Af]],  E_j = [B_j; Bf D_j],  H_j = [Cz − Df C_j, −Cf],  G_j = Dz − Df D_j,
+//! c_j = (r, Gf r),
+//! ```
 //!
 //! with the filter's gains those of mode j when it is mode-indexed. The exact error follows from
-//! per-mode raw moments m_j = E[ξ 1{θ = j}], Y_j = E[ξξᵀ 1{θ = j}] (seed 001 eq (10); docs/math.md §3: "one
-//! recursion per mode"), propagated with the mode's matrices and mixed by Π, since θ[k+1] depends on
-//! the past only through θ[k]. Without modes this is the mean-plus-Lyapunov recursion
-//! Σ[k+1] = F Σ Fᵀ + E W Eᵀ; with dropouts (seed 003 (4.30)–(4.33), two independent modes) it gives
+//! per-mode raw moments m_j = E\[ξ 1{θ = j}], Y_j = E\[ξξᵀ 1{θ = j}] (seed 001 eq (10); docs/math.md §3: "one
+//! recursion per mode"), propagated with the mode's matrices and mixed by Π, since θ\[k+1] depends on
+//! the past only through θ\[k]. Without modes this is the mean-plus-Lyapunov recursion
+//! Σ\[k+1] = F Σ Fᵀ + E W Eᵀ; with dropouts (seed 003 (4.30)–(4.33), two independent modes) it gives
 //! exactly the p(1 − p) terms of the multiplicative-noise form ("the Σ_i A_i M A_iᵀ terms").
 //!
-//! Inputs drawn jointly over the horizon (not white) add the cross moments Z_j = E[ξ Jᵀ 1{θ = j}]
-//! with the whole input J; for white inputs the cross moment with w[k] is m_j μ_kᵀ.
+//! Inputs drawn jointly over the horizon (not white) add the cross moments Z_j = E\[ξ Jᵀ 1{θ = j}]
+//! with the whole input J; for white inputs the cross moment with w\[k] is m_j μ_kᵀ.
 //!
 //! The error is affine in the covariances K, and the backward (adjoint) recursion
-//! Λ_j[k] = H_jᵀH_j + F_jᵀ (Σ_i Π_ji Λ_i[k+1]) F_j gives ∂J/∂K for every block in one pass (seed 000
+//! Λ_j\[k] = H_jᵀH_j + F_jᵀ (Σ_i Π_ji Λ_i\[k+1]) F_j gives ∂J/∂K for every block in one pass (seed 000
 //! eq (27), computed as docs/math.md §2 recommends).
 
 mod form;
@@ -34,7 +36,7 @@ use crate::model::uncertainty::CovSet;
 use crate::numerics::linalg::{Mat, Vector, symmetrize};
 
 /// The augmented matrices F, E, H, G of step k in one mode (module docs), the map from the
-/// known input r[k] to the state's shift c = R r (no columns when the plant has no known input),
+/// known input r\[k] to the state's shift c = R r (no columns when the plant has no known input),
 /// and one zero-mean term per multiplicative factor ζ_i (seed 003 (4.12)–(4.13)): F = F̄ + Σ ζ_i F_i
 /// and so on, which add F_i Y F_iᵀ to the second moments and nothing to the means.
 #[derive(Clone, Debug)]
@@ -112,13 +114,13 @@ fn modal(plant: &Plant, real: &Realization, k: usize) -> Vec<Augmented> {
     (0..plant.n_modes()).map(|j| augmented(plant, real, k, j)).collect()
 }
 
-/// Exact expected squared error E|z[k] − ẑ[k]|² per step and its sum J over the steps that count
+/// Exact expected squared error E|z\[k] − ẑ\[k]|² per step and its sum J over the steps that count
 /// (k ≥ `plant.sum_from`).
 #[derive(Clone, Debug)]
 pub struct ExactError {
     pub per_step: Vec<f64>,
     pub total: f64,
-    /// Σ_k E[|e[k]|² 1{θ[k] = j}] over the counted steps, per mode j (one entry without modes).
+    /// Σ_k E[|e\[k]|² 1{θ\[k] = j}] over the counted steps, per mode j (one entry without modes).
     pub per_mode: Vec<f64>,
     /// How many digits the worst step lost to cancellation, and which step.
     pub resolution: Resolution,
@@ -191,13 +193,13 @@ pub fn error(plant: &Plant, real: &Realization, cov: &Covariances) -> ExactError
     error_with_mean(plant, real, cov, None)
 }
 
-/// Σ_k |E e[k]|² over the steps that count: the deterministic part of J, from x0's mean, the known
-/// input and a deterministic sequence `w_mean` (column k is the mean of w[k]).
+/// Σ_k |E e\[k]|² over the steps that count: the deterministic part of J, from x0's mean, the known
+/// input and a deterministic sequence `w_mean` (column k is the mean of w\[k]).
 pub fn mean_error(plant: &Plant, real: &Realization, w_mean: &Mat) -> f64 {
     error_with_mean(plant, real, &zero_covariances(plant), Some(w_mean)).total
 }
 
-/// As [`error`], with w[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
+/// As [`error`], with w\[k] having mean `w_mean` column k (deterministic disturbances, seed 000 §5).
 pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_mean: Option<&Mat>) -> ExactError {
     let w = white(plant, cov);
     if !plant.random_matrices()
@@ -215,7 +217,7 @@ pub fn error_with_mean(plant: &Plant, real: &Realization, cov: &Covariances, w_m
     resolved(plant, real, &start(plant, real, &Vector::zeros(plant.nx()), cov.x0(), &input), &input)
 }
 
-/// W[k] for [`Input::White`]: one matrix, or one per step when some block varies.
+/// W\[k] for [`Input::White`]: one matrix, or one per step when some block varies.
 fn white(plant: &Plant, cov: &Covariances) -> Vec<Mat> {
     if cov.varies() { (0..plant.steps()).map(|k| cov.w_at(k)).collect() } else { vec![cov.w()] }
 }
@@ -259,15 +261,15 @@ fn zero_covariances(plant: &Plant) -> Covariances {
     )
 }
 
-/// Which step's noise w[k] sits where in a joint input J = col(x0 − E x0, w[0..N−1]) (w[N] = 0) or
-/// col(x0 − E x0, w[0..N]): the offset of w[k] in J, None when w[k] = 0.
+/// Which step's noise w\[k] sits where in a joint input J = col(x0 − E x0, w\[0..N−1]) (w\[N] = 0) or
+/// col(x0 − E x0, w\[0..N]): the offset of w\[k] in J, None when w\[k] = 0.
 pub fn joint_offset(plant: &Plant, dim: usize, k: usize) -> Option<usize> {
     let (n, nw) = (plant.nx(), plant.nw());
     let with_last = dim == n + plant.steps() * nw;
     (k < plant.horizon || (k == plant.horizon && with_last)).then_some(n + k * nw)
 }
 
-/// The exact error when J = col(x0 − E x0, w[0..N−1] or w[0..N]) has mean `mean` and covariance
+/// The exact error when J = col(x0 − E x0, w\[0..N−1] or w\[0..N]) has mean `mean` and covariance
 /// `cov` jointly over the horizon (not white).
 pub fn error_joint(plant: &Plant, real: &Realization, mean: &Vector, cov: &Mat) -> Result<ExactError> {
     let (n, nw) = (plant.nx(), plant.nw());

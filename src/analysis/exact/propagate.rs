@@ -15,7 +15,7 @@ pub(super) enum Input<'a> {
 }
 
 /// The moments at k = 0 before the modes are mixed in: mean m, raw second moment Y and, for a joint
-/// input, the cross moment Z = E[ξ Jᵀ].
+/// input, the cross moment Z = E\[ξ Jᵀ].
 pub(super) struct Start {
     m: Vector,
     y: Mat,
@@ -29,7 +29,7 @@ impl Start {
     }
 }
 
-/// ξ[0] = (x0, s0) in plant coordinates, with x0 = E x0 + x0_shift + δ, Cov δ = x0_cov.
+/// ξ\[0] = (x0, s0) in plant coordinates, with x0 = E x0 + x0_shift + δ, Cov δ = x0_cov.
 pub(super) fn start(plant: &Plant, real: &Realization, x0_shift: &Vector, x0_cov: &Mat, input: &Input) -> Start {
     let (n, ns) = (plant.nx(), real.ns());
     let nxi = n + ns;
@@ -210,8 +210,8 @@ pub(super) fn two_by_two_block_diagonal(m: &Mat) -> bool {
 
 /// The recursion of [`propagate`] when A, cov x0 and B W Bᵀ are block diagonal in 2×2 blocks and
 /// there are no modes, no means and no time-varying matrices (a modal truth, seed 004's string): the state covariance stays
-/// block diagonal, so only its blocks P_b, the cross covariance X = E[x sᵀ] and the filter's
-/// S = E[s sᵀ] are carried:
+/// block diagonal, so only its blocks P_b, the cross covariance X = E\[x sᵀ] and the filter's
+/// S = E\[s sᵀ] are carried:
 ///
 ///     P_b' = A_b P_b A_bᵀ + (B W Bᵀ)_b,   X' = A X Afᵀ + A P (Bf C)ᵀ + B W Dᵀ Bfᵀ,
 ///     S' = Af S Afᵀ + Af Xᵀ (Bf C)ᵀ + (Bf C) X Afᵀ + (Bf C) P (Bf C)ᵀ + Bf D W Dᵀ Bfᵀ,

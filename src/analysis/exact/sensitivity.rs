@@ -4,16 +4,18 @@
 use super::*;
 use crate::numerics::linalg::weighted_sum;
 
-/// Λ = E[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w[0..N]) to col(e[k], k counted), the
+/// Λ = E\[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w\[0..N]) to col(e\[k], k counted), the
 /// known input and x0's mean set aside (seed 003 §2, docs/math.md §5: "Λ for multiplicative noise is exact
 /// from second-moment recursions"), for modes independent over time with probabilities p_j (the
 /// dropout plant). With the backward second moment R_t = Σ_j p_j (H_jᵀH_j + F_jᵀ R_{t+1} F_j)
 /// (counted steps only for the H term), the means F̄ = Σ p_j F_j, Ē = Σ p_j E_j, and
-/// L_j = Σ_i p_i (G_iᵀ H_i + E_iᵀ R_{j+1} F_i) (θ[j] is independent of everything before):
+/// L_j = Σ_i p_i (G_iᵀ H_i + E_iᵀ R_{j+1} F_i) (θ\[j] is independent of everything before):
 ///
-///     Λ_{w_j w_j} = Σ_i p_i (G_iᵀ G_i + E_iᵀ R_{j+1} E_i),   Λ_{w_j w_i} = L_j F̄_{j−1} ⋯ F̄_{i+1} Ē_i   (i < j),
+/// ```text
+/// Λ_{w_j w_j} = Σ_i p_i (G_iᵀ G_i + E_iᵀ R_{j+1} E_i),   Λ_{w_j w_i} = L_j F̄_{j−1} ⋯ F̄_{i+1} Ē_i   (i < j),
+/// ```
 ///
-/// and x0 enters like a w_{−1} with E_{−1} = [I; 0]. So E|e|² summed = tr(Λ E[JJᵀ]) for any input.
+/// and x0 enters like a w_{−1} with E_{−1} = [I; 0]. So E|e|² summed = tr(Λ E\[JJᵀ]) for any input.
 /// A chain with memory would need the modes carried along; it is refused.
 pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> {
     if !plant.independent_modes() {
@@ -81,8 +83,8 @@ pub fn second_moment_operator(plant: &Plant, real: &Realization) -> Result<Mat> 
 /// The adjoint cancels like the forward moments on an unstable plant (F_jᵀ Λ F_j multiplies Λ's
 /// rounding by |A|² per step while the response of the error stays bounded), so when some A_θ has
 /// spectral radius above 1 and the realization passes [`error_form`]'s check, the pass runs in error
-/// coordinates: Λ^ε[k] = HᵀH + Afᵀ Λ^ε[k+1] Af on ε alone, x0 entering as ε[0] = s0 − M x0 (x0's
-/// gradient Mᵀ Λ^ε[0] M). Elsewhere the plant coordinates, as before.
+/// coordinates: Λ^ε\[k] = HᵀH + Afᵀ Λ^ε\[k+1] Af on ε alone, x0 entering as ε\[0] = s0 − M x0 (x0's
+/// gradient Mᵀ Λ^ε\[0] M). Elsewhere the plant coordinates, as before.
 pub fn gradient(plant: &Plant, real: &Realization) -> Vec<Mat> {
     let n = plant.nx();
     let unstable =
@@ -154,7 +156,7 @@ pub struct WorstCase {
     /// Whether every block of the maximizer is PSD (a box corner need not be; then the value is the
     /// maximum over the box as the seed defines it, not over covariances).
     pub psd: bool,
-    /// The worst deterministic disturbance sequence (column k adds to w[k]), when there is one.
+    /// The worst deterministic disturbance sequence (column k adds to w\[k]), when there is one.
     pub disturbance: Option<Mat>,
     /// The deterministic error that sequence adds and an upper bound on the maximum over all
     /// admissible sequences ([`crate::analysis::disturbance::Worst`]; equal when certified exact).

@@ -2,15 +2,19 @@
 //! [`structure`]; Theorem 1's LMIs, shared with the analysis check, in
 //! [`crate::analysis::theorem1`]. The bound is derived here for the dropout predictor (4.31)
 //!
-//!     x̂[k+1] = W(k) x̂[k] + H(k) (y[k] − p Cy x̂[k]) + r[k],   ẑ[k] = Cz x̂[k],   x̂[0] = E x0,
+//! ```text
+//! x̂[k+1] = W(k) x̂[k] + H(k) (y[k] − p Cy x̂[k]) + r[k],   ẑ[k] = Cz x̂[k],   x̂[0] = E x0,
+//! ```
 //!
 //! with the error system (4.32)–(4.33) on X = (x, e), e = x − x̂:
 //!
-//!     A0 = [[A, 0], [A − W, W − pHCy]],  A1 = [[0, 0], [−HCy, 0]],  B = [B; B − HDy],  C = [0, Cz],  D = Dz.
+//! ```text
+//! A0 = [[A, 0], [A − W, W − pHCy]],  A1 = [[0, 0], [−HCy, 0]],  B = [B; B − HDy],  C = [0, Cz],  D = Dz.
+//! ```
 //!
 //! **The bound.** For q > 0 and R(N+1) = 0, a solution of the Riccati inequality
 //! R ⪰ A0ᵀR'A0 + p(1−p) A1ᵀR'A1 + qCᵀC + (A0ᵀR'B + qCᵀD) S⁻¹ (·)ᵀ, S = I − qDᵀD − BᵀR'B ≻ 0, gives
-//! I − qΛ ⪰ TᵀST with T unit lower triangular (complete the square in E[XᵀRX] and use Jensen on the
+//! I − qΛ ⪰ TᵀST with T unit lower triangular (complete the square in E\[XᵀRX] and use Jensen on the
 //! mean of X), so ln det(I − qΛ) ≥ Σ ln det S(k); and ln det(I − qΛ) ≥ 2a + lw ln(1 − qγ²) implies
 //! |||F|||_a ≤ γ (the Gibbs variational inequality at power 1/(1 − qγ²)). This is (4.21)–(4.24).
 //! With η = 1/q, P = ηR and Ψ(k) ⪯ ηS(k) it becomes the LMIs (4.34)–(4.37) (Schur complements;
@@ -212,7 +216,7 @@ pub struct Checked {
 /// exact ≤ γ_T1 ≤ γ (the design's own P is one of their solutions), each within the errors its two
 /// routes state (the rounding bounds of the exact routes, clarabel's `objective_error` for γ). The first attempt uses clarabel's default settings (shipped designs are unchanged);
 /// after a numerical failure or a design that fails a check, retries with [`Tuning::robust`], then
-/// both settings in balanced state coordinates ([`synthesize_balanced`]).
+/// both settings in balanced state coordinates (`synthesize_balanced`).
 pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> std::result::Result<Checked, String> {
     let mut last = String::new();
     let attempts =

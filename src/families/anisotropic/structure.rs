@@ -1,22 +1,26 @@
 //! The structures of seed 003 §4.2 that make Theorem 1's LMIs convex in the filter (3.3),
 //!
-//!     x̂(k+1) = W x̂ + H (y − Γ x̂),   ẑ = F x̂ + G (y − Γ x̂),   x̂(0) = E x0,
+//! ```text
+//! x̂(k+1) = W x̂ + H (y − Γ x̂),   ẑ = F x̂ + G (y − Γ x̂),   x̂(0) = E x0,
+//! ```
 //!
 //! on the error system (4.7)–(4.11) in X = (x, e), e = x − x̂, with X(k) = W − HΓ and Y(k) = F − GΓ:
 //!
-//!     𝒜 = [[A, 0], [A − X − H Cy, X]],  ℬ = [B; B − H Dy],  𝒞 = [Cz − Y − G Cy, Y],  𝒟 = Dz − G Dy,
+//! ```text
+//! 𝒜 = [[A, 0], [A − X − H Cy, X]],  ℬ = [B; B − H Dy],  𝒞 = [Cz − Y − G Cy, Y],  𝒟 = Dz − G Dy,
+//! ```
 //!
 //! every plant matrix a mean plus Σᵢ ζᵢ Mᵢ (the factors of (2.1); a dropout is the term
 //! √(p(1 − p)) Cy of λ Cy, whose mean is p Cy).
 //!
-//! - **`predictor`** (§4.2.3, G = 0, F = E[Cz], Γ = E[Cy]; with dropouts this is §4.2.1, (4.31)):
+//! - **`predictor`** (§4.2.3, G = 0, F = E\[Cz], Γ = E\[Cy]; with dropouts this is §4.2.1, (4.31)):
 //!   P = diag(P1, P2), Q = P2(k+1)W, 𝒴 = P2(k+1)H make P'𝒜, P'ℬ linear ((4.39)–(4.41)).
 //! - **`static`** (§4.2.2, H = 0): x̂ ≡ 0 and ẑ = G y; the error system is the plant's own with
 //!   𝒞 = Cz − G Cy, 𝒟 = Dz − G Dy (4.44), linear in G with P(k) full: no restriction.
-//! - **`gamma_zero`** (§4.2.4, Γ = 0, Theorem 2) and **`gamma_mean`** (§4.2.5, Γ = E[Cy],
+//! - **`gamma_zero`** (§4.2.4, Γ = 0, Theorem 2) and **`gamma_mean`** (§4.2.5, Γ = E\[Cy],
 //!   Theorem 3): W, H, F, G all free. With P = diag(P1, P2) the substitution (П.2.1)
 //!   𝒴 = 𝒳P(k+1), 𝒳 = [[0, 0], [W, H]], is Q = P2'W, 𝒴 = P2'H, and 𝒞 is linear in (Y, G). The two
-//!   differ only in where H E[Cy] sits ((4.53) against (4.69)): X = W − HΓ is free either way, so
+//!   differ only in where H E\[Cy] sits ((4.53) against (4.69)): X = W − HΓ is free either way, so
 //!   they describe the same filters and give the same γ up to the solver's tolerance.
 //!
 //! **What the restriction costs.** A full P(k) would leave P12(k+1)W in P'𝒜, which no linear
@@ -25,7 +29,7 @@
 //! check ([`super::synthesize_checked`]) measures exactly that: Theorem 1 with a full P on the
 //! designed filter. `static` needs no restriction but gives up the filter's state.
 //!
-//! **Nesting.** `gamma_*` contains `predictor` (G = 0, Y = E[Cz]) with the same P, so its γ is never
+//! **Nesting.** `gamma_*` contains `predictor` (G = 0, Y = E\[Cz]) with the same P, so its γ is never
 //! larger; it contains `static` (W = H = 0, Y = 0) only as P2 → 0, which the floor P2 ⪰ εI
 //! (needed to recover W = P2⁻¹Q) excludes: γ(gamma_*) ≤ γ(static) up to O(ε).
 
@@ -384,8 +388,8 @@ fn terms(structure: Structure, ps: &PlantStep, next: Option<&(AffMat, Option<Aff
     out
 }
 
-/// The filter (3.3) as a realization: s[k+1] = X s + H y + r with X = W − HΓ, ẑ = Y s + G y with
-/// Y = F − GΓ (F is stored as Y already; W as W). Γ = E[Cy] for `predictor` and `gamma_mean`, 0 for
+/// The filter (3.3) as a realization: s\[k+1] = X s + H y + r with X = W − HΓ, ẑ = Y s + G y with
+/// Y = F − GΓ (F is stored as Y already; W as W). Γ = E\[Cy] for `predictor` and `gamma_mean`, 0 for
 /// `gamma_zero`; the static filter's state stays zero (W = H = 0, Y = 0).
 pub fn realization(plant: &Plant, syn: &Synthesis) -> Realization {
     let p = plant.arrival_mean();

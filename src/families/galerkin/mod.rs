@@ -23,7 +23,7 @@
 //! **Discretization.** The projected system is discretized exactly over Δ (Van Loan: one matrix
 //! exponential gives Φ and the integrated noise covariance), the measurement noise of intensity
 //! S_α becomes S_α/Δ per sample, and the filter is the Kalman filter of that sampled model in
-//! filtering form (x̂[k] from y[0..k]). As Δ → 0 it converges to the Kalman–Bucy filter
+//! filtering form (x̂\[k] from y\[0..k]). As Δ → 0 it converges to the Kalman–Bucy filter
 //! P' = F₂P + PF₂ᵀ + Q − P Cᵀ S_α⁻¹ C P, P(0) = diag(P0, P10): the covariances of the basis
 //! coefficients of u(0) and u_t(0), T 𝒰₀ Tᵀ and T 𝒰₁ Tᵀ with T the modal amplitudes' map to the
 //! coefficients (the first n rows for the eigenfunctions, M⁻¹(e_k, φ_i) for the hats); 0 at rest.

@@ -104,7 +104,7 @@ fn svec_to_matrix(v: &[f64], n: usize) -> Mat {
 /// ⟨H, C⟩ + ρ‖H‖_F; a Loewner interval L ⪯ S ⪯ U with U − L = FFᵀ: ⟨H, L⟩ + the sum of the positive
 /// eigenvalues of FᵀHF (S = L + FXFᵀ, 0 ⪯ X ⪯ I). Z is the solver's multiplier of the PSD
 /// constraint with its negative eigenvalues dropped; the bound holds for any Z, the solver's only
-/// makes it tight. Every eigenvalue computed here carries [`accuracy::eigenvalue_error`], which is
+/// makes it tight. Every eigenvalue computed here carries [`crate::numerics::accuracy::eigenvalue_error`], which is
 /// added: Z's own (times the largest trace on the shape, since ⟨Z, S⟩ ≥ −δ tr S) and the Loewner
 /// form's (times n). Where several shapes are given the first is used (a superset of the
 /// intersection, so still a bound).

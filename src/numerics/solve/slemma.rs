@@ -8,7 +8,9 @@
 //! Σ_k |u_{g,k}|² ≤ R_g. For any multipliers μ ≥ 0 with D(μ) = Σ_i μ_i P_i ⪰ AᵀA (P_i the 0/1
 //! diagonal projector of constraint i) and any admissible u,
 //!
-//!     |A u|² = uᵀ AᵀA u ≤ uᵀ D(μ) u = Σ_i μ_i uᵀ P_i u ≤ Σ_i μ_i c_i      (c_i = r_{g,k} or R_g),
+//! ```text
+//! |A u|² = uᵀ AᵀA u ≤ uᵀ D(μ) u = Σ_i μ_i uᵀ P_i u ≤ Σ_i μ_i c_i      (c_i = r_{g,k} or R_g),
+//! ```
 //!
 //! so Σ_i c_i μ_i is an upper bound whatever μ is, optimal or not: weak Lagrangian duality, valid
 //! for any number of groups and constraints. With one constraint (one block, the summed bound
@@ -17,7 +19,7 @@
 //! only for one constraint).
 //!
 //! The dual is solved with clarabel: as one n×n PSD constraint for small n, else by cutting planes
-//! whose relaxations are LPs ([`cutting_planes`]); either way the solver reports a lower bound on
+//! whose relaxations are LPs (`cutting_planes`); either way the solver reports a lower bound on
 //! the optimum beside its μ̂. (Coordinates under a zero bound are 0 and leave the problem first.)
 //! The solver's μ̂ is only feasible to its tolerance, so it is certified: with Ŝ = D(μ̂) − M̂
 //! computed in floating point, raise a covering set of multipliers (per group the summed one, or
@@ -26,7 +28,9 @@
 //! constraint's matrix is an identity on its pieces, so the metric of the blocks is the Euclidean
 //! one and the raise is a plain eigenvalue. The raised μ is then checked (not assumed) to satisfy
 //!
-//!     λ̂min(Ŝ) ≥ p(n)·ε·‖Ŝ‖_F + 2ε(‖D‖_F + ‖M̂‖_F) + γ_r‖A‖_F²,
+//! ```text
+//! λ̂min(Ŝ) ≥ p(n)·ε·‖Ŝ‖_F + 2ε(‖D‖_F + ‖M̂‖_F) + γ_r‖A‖_F²,
+//! ```
 //!
 //! which implies D(μ) ⪰ AᵀA exactly: the computed eigenvalue is within p(n)·ε·‖Ŝ‖₂ of the true one
 //! (a backward-stable symmetric eigensolver, |λ̂ − λ| ≤ p(n)·ε·‖Ŝ‖₂ by Weyl's inequality; the
@@ -40,7 +44,7 @@ use super::conic::{Conic, Tuning};
 use crate::numerics::linalg::Mat;
 
 /// One group of coordinates: `steps` consecutive pieces of `size` entries from `offset`, with the
-/// per-piece bounds |u_k|² ≤ step[k] and/or the summed bound Σ_k |u_k|² ≤ total.
+/// per-piece bounds |u_k|² ≤ step\[k] and/or the summed bound Σ_k |u_k|² ≤ total.
 #[derive(Clone, Debug)]
 pub struct BallGroup {
     pub offset: usize,

@@ -1,5 +1,5 @@
 //! The Rerun recording (`recording.rrd`): the run's figures on the `step` timeline, styled (one
-//! colour per filter, see [`style`]) and sent with a default layout ([`layout`]) so the viewer
+//! colour per filter, see [`style`]) and sent with a default layout (`layout`) so the viewer
 //! opens it readable. Entity paths (each user-given name is one escaped path part, so `k.1` and
 //! `k_1` stay two entities), with `<variant>/` in front when the file has variants:
 //!

@@ -1,5 +1,5 @@
 //! Inputs drawn jointly over the whole horizon (docs/math.md §7; seed 002 §2): ξ = col(x0 − E x0,
-//! w[0..N−1]) with w[N] = 0, either with a full (not white) covariance, uniformly on or inside the
+//! w\[0..N−1]) with w\[N] = 0, either with a full (not white) covariance, uniformly on or inside the
 //! weighted ellipsoid ξᵀK⁻¹ξ ≤ 1, or fixed (a filter's worst case). The factor is computed once per
 //! scenario; a block of lanes draws into preallocated buffers and is mapped with one product.
 
@@ -22,7 +22,7 @@ pub enum JointInput {
 
 impl JointInput {
     /// A random full covariance over the horizon, K^½ B K^½ᵀ with B = AAᵀ (A Gaussian) scaled so
-    /// that E[ξᵀK⁻¹ξ] = dim, as for white noise of covariance K.
+    /// that E\[ξᵀK⁻¹ξ] = dim, as for white noise of covariance K.
     pub fn random_covariance(k: &Mat, seed: u64) -> Self {
         let d = k.nrows();
         let mut rng = ChaCha8Rng::seed_from_u64(seed);

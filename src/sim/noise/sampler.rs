@@ -1,6 +1,6 @@
-//! The noise draw, a block of [`LANES`] trials at a time: x0 = m0 + L0 u0 and w[k] = Lw u[k] + w̄[k]
+//! The noise draw, a block of [`LANES`] trials at a time: x0 = m0 + L0 u0 and w\[k] = Lw u\[k] + w̄\[k]
 //! for k = 0..N, with u i.i.d. of the scenario's shape and L Lᵀ equal to the scenario's covariance
-//! (docs/math.md §7), then the plant's mode θ[k] and its multiplicative factors ζ_i(k). Each lane draws its
+//! (docs/math.md §7), then the plant's mode θ\[k] and its multiplicative factors ζ_i(k). Each lane draws its
 //! standardized scalars from its own trial's streams; the factors L are then applied to the whole
 //! block with one product per step. Factors are computed once per scenario; a block draws into a
 //! preallocated [`LaneDraw`] and allocates nothing.
@@ -53,7 +53,7 @@ pub struct NoiseSampler {
     lw: LinOp,
     draw: StandardDraw,
     steps: usize,
-    /// Deterministic part of w[k] (column k), if any: energy-bounded disturbances.
+    /// Deterministic part of w\[k] (column k), if any: energy-bounded disturbances.
     w_mean: Option<Mat>,
     /// Inputs drawn jointly over the horizon instead of block by block.
     joint: Option<JointInput>,
@@ -63,14 +63,14 @@ pub struct NoiseSampler {
     factors: Vec<StandardDraw>,
 }
 
-/// One block's draws, step by step: x0 after [`NoiseSampler::start`], w[k], θ[k] and ζ_i(k) after
+/// One block's draws, step by step: x0 after [`NoiseSampler::start`], w\[k], θ\[k] and ζ_i(k) after
 /// [`NoiseSampler::step`]`(k)`. Lanes at and beyond `active` hold stale but finite values.
 pub struct LaneDraw {
     rngs: Vec<[TrialRng; 3]>,
     active: usize,
     pub x0: Vec<Row>,
     pub w: Vec<Row>,
-    /// θ[k] per lane (for dropouts 0 = lost, 1 = arrived).
+    /// θ\[k] per lane (for dropouts 0 = lost, 1 = arrived).
     pub modes: [u32; LANES],
     /// ζ_i(k): row i is factor i.
     pub zeta: Vec<Row>,
@@ -85,12 +85,12 @@ impl LaneDraw {
     }
 }
 
-/// One trial's draws, all steps: the initial state and w[k] as column k of `w` (for tests and
+/// One trial's draws, all steps: the initial state and w\[k] as column k of `w` (for tests and
 /// the discrepancy pilot; drawn by the block code with one lane).
 pub struct TrialDraw {
     pub x0: Vector,
     pub w: Mat,
-    /// θ[k], the plant's mode at step k (all 0 for a plant that does not switch).
+    /// θ\[k], the plant's mode at step k (all 0 for a plant that does not switch).
     pub modes: Vec<usize>,
     /// ζ_i(k): row i is factor i of the plant's multiplicative noise.
     pub zeta: Mat,
@@ -112,13 +112,13 @@ impl NoiseSampler {
         }
     }
 
-    /// Draws ξ = col(x0 − E x0, w[0..N−1]) jointly (w[N] = 0) instead of independently.
+    /// Draws ξ = col(x0 − E x0, w\[0..N−1]) jointly (w\[N] = 0) instead of independently.
     pub fn with_joint(mut self, joint: Option<JointInput>) -> Self {
         self.joint = joint;
         self
     }
 
-    /// Adds a deterministic sequence to w (column k is added to w[k]).
+    /// Adds a deterministic sequence to w (column k is added to w\[k]).
     pub fn with_mean(mut self, w_mean: Option<Mat>) -> Self {
         self.w_mean = w_mean;
         self
@@ -174,14 +174,14 @@ impl NoiseSampler {
         lanes::add_vector(1.0, self.m0.as_slice(), &mut out.x0);
     }
 
-    /// u[i][l] i.i.d. of the shape, lane l from its noise stream.
+    /// u\[i]\[l] i.i.d. of the shape, lane l from its noise stream.
     fn standard(&self, rngs: &mut [[TrialRng; 3]], u: &mut [Row]) {
         for (l, r) in rngs.iter_mut().enumerate() {
             self.draw.fill(&mut r[0], u.iter_mut().map(|row| &mut row[l]));
         }
     }
 
-    /// Draws step k of the block: w[k], then θ[k] (θ[0] ~ p(0), θ[k] ~ Π[θ[k−1], ·], seed 001 (11))
+    /// Draws step k of the block: w\[k], then θ\[k] (θ\[0] ~ p(0), θ\[k] ~ Π[θ\[k−1], ·], seed 001 (11))
     /// and ζ_i(k), each from its own stream.
     pub fn step(&self, k: usize, out: &mut LaneDraw) {
         let active = out.active;
