@@ -192,7 +192,7 @@ impl Lemma1 {
     /// [`crate::analysis::anisotropy::anisotropic_norm_from_eigenvalues`] defines both: a = 0 gives
     /// ‖F‖₂/√lw (q = 0); a level not reached below (1 − 1e-15)/λmax, and a = ∞, give
     /// ‖F‖∞ = √λmax (q = 1/λmax); otherwise q solves A(Σ(q)) = a by the line search of
-    /// [`maximize_concave_01`] on a − A (A increases in q).
+    /// `maximize_concave_01` on a − A (A increases in q).
     pub fn norm(&self, a: f64) -> Result<AnisotropicNorm> {
         if !(a >= 0.0) {
             return Err(Error::invalid("anisotropy", format!("the anisotropy level must be ≥ 0, got {a}")));

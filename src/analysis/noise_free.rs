@@ -13,7 +13,7 @@ use crate::numerics::linalg::{Mat, Vector};
 /// seed 001 eq (10)): m_i\[k+1] = Σ_j Π_ji (A_j\[k] m_j\[k] + p_j(k) r\[k]), x̄ = Σ_j m_j. A scenario's
 /// deterministic disturbance is not the known input and is left out. None when the plant has no
 /// known input: then there is no reference beyond x(0)'s decaying mean.
-pub fn noise_free_output(plant: &Plant) -> Option<Mat> {
+pub(crate) fn noise_free_output(plant: &Plant) -> Option<Mat> {
     if plant.known_input.is_empty() {
         return None;
     }

@@ -7,7 +7,7 @@
 //! matrices are data, the LMIs are linear in P(k), Ψ(k), η, γ²) and for every synthesis of
 //! `families::anisotropic` (the filter's matrices enter through each structure's change of
 //! variables): a caller gives, per step, P(k), P(k+1) and the products P(k+1)𝒜ᵢ, P(k+1)ℬᵢ, 𝒞ᵢ, 𝒟ᵢ as
-//! affine matrices, and [`Conditions::add`] writes
+//! affine matrices, and `Conditions::add` writes
 //!
 //! ```text
 //! (4.25)  [[P(k), ·, ·, ·], [0, ηI, ·, ·], [P'𝒜ᵢ, P'ℬᵢ, P', ·]ᵢ, [𝒞ᵢ, 𝒟ᵢ, 0, I]ᵢ] ⪰ 0
@@ -63,7 +63,7 @@ impl Level {
 /// matrices: P(k+1)𝒜ᵢ, P(k+1)ℬᵢ, 𝒞ᵢ, 𝒟ᵢ; None where the term does not enter (no zero blocks are
 /// written, so the program is as small as the plant's noise).
 #[derive(Clone, Debug, Default)]
-pub struct Term {
+pub(crate) struct Term {
     pub pa: Option<AffMat>,
     pub pb: Option<AffMat>,
     pub c: Option<AffMat>,
@@ -73,7 +73,7 @@ pub struct Term {
 /// Step k of (4.25)–(4.28): P(k), P(k+1) (None at k = N, where P(N+1) = 0), the terms, and any
 /// constraint of the caller's change of variables that belongs to this step (written first).
 #[derive(Clone, Debug)]
-pub struct Step {
+pub(crate) struct Step {
     pub p: AffMat,
     pub next: Option<AffMat>,
     pub terms: Vec<Term>,
@@ -82,7 +82,7 @@ pub struct Step {
 
 /// The scalar variables η = 1/q and γ² and, for a finite level, Ψ(k) and the triangular Z(k) of the
 /// determinant bound.
-pub struct Conditions {
+pub(crate) struct Conditions {
     pub level: Level,
     pub eta: usize,
     pub gsq: usize,
@@ -105,7 +105,7 @@ impl Conditions {
     }
 
     /// Creates Ψ(k) and Z(k) for `steps` steps of an input of size mw (nothing at a = ∞).
-    pub fn determinant_variables(&mut self, vars: &mut Vars, steps: usize, mw: usize) {
+    pub(crate) fn determinant_variables(&mut self, vars: &mut Vars, steps: usize, mw: usize) {
         if matches!(self.level, Level::Anisotropy(_)) {
             self.psi = (0..steps).map(|_| vars.symmetric(mw)).collect();
             self.zl = (0..steps).map(|_| vars.matrix(mw, mw, true)).collect();

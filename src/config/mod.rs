@@ -13,7 +13,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
-pub use crate::model::choice::{CovChoice, CovChoiceFile};
+pub(crate) use crate::model::choice::CovChoice;
 use crate::model::disturbance::{Disturbance, DisturbanceChoice};
 pub use crate::model::plant::Pattern;
 use crate::model::plant::{Covariances, Plant};

@@ -90,9 +90,9 @@ pub struct Supports {
 
 /// Both patterns.
 pub const ANY_PATTERN: &[Pattern] = &[Pattern::Filtering, Pattern::Prediction];
-/// Prediction only: ẑ[k] from y[0..k−1].
+/// Prediction only: ẑ\[k] from y\[0..k−1].
 pub const PREDICTION: &[Pattern] = &[Pattern::Prediction];
-/// Filtering only: ẑ[k] from y[0..k].
+/// Filtering only: ẑ\[k] from y\[0..k].
 pub const FILTERING: &[Pattern] = &[Pattern::Filtering];
 
 impl Supports {
@@ -159,7 +159,7 @@ pub struct RunView<'a> {
     pub filters: Vec<(&'a str, &'static str, &'a Design)>,
     /// Per scenario (in file order), its name and every filter's exact summed error.
     pub exact: Vec<(&'a str, Vec<f64>)>,
-    /// One record y[0..N] of the truth at the nominal covariances (column k = y[k]), from a random
+    /// One record y\[0..N] of the truth at the nominal covariances (column k = y\[k]), from a random
     /// stream no trial uses: the data a user would have to tune a filter on.
     pub pilot_record: &'a dyn Fn() -> Mat,
 }

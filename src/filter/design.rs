@@ -28,14 +28,14 @@ impl DesignInput<'_> {
         format!("filters.{}.{sub}", self.name)
     }
 
-    pub fn has_sets(&self) -> bool {
+    pub(crate) fn has_sets(&self) -> bool {
         self.sets.iter().any(Option::is_some)
     }
 
     /// The covariance a design parameter names (docs/math.md §7's choices, without the ones that name
     /// another filter: the caller refuses those with its own reason). `has_sets`: whether the
     /// choices that need an uncertainty set may be taken.
-    pub fn design_point(&self, key: &str, choice: &CovChoiceFile, has_sets: bool) -> Result<Covariances> {
+    pub(crate) fn design_point(&self, key: &str, choice: &CovChoiceFile, has_sets: bool) -> Result<Covariances> {
         let c = CovChoice::resolve(key, choice, self.plant, &self.nominal, has_sets, |_| None)?;
         let cov = c
             .point(&self.nominal, self.sets)?
@@ -76,7 +76,7 @@ impl GuaranteeKind {
 
     /// Whether the guarantee is a bound over the experiment's uncertainty (seed 000 Theorem 3),
     /// rather than the filter's error at one covariance.
-    pub fn bounds_the_sets(self) -> bool {
+    pub(crate) fn bounds_the_sets(self) -> bool {
         match self {
             GuaranteeKind::ExactAtDesign => false,
             GuaranteeKind::Minimax => true,
@@ -86,7 +86,7 @@ impl GuaranteeKind {
 
 /// A typed record the reports format without knowing its type: its JSON for the manifest, and the
 /// numbers it names for the summary table. A family's design figures ([`Figures`]) and its analysis
-/// of a finished run are records; whoever knows the type reads it back with [`Record::as_any`].
+/// of a finished run are records; whoever knows the type reads it back with [`AsAny::as_any`].
 pub trait Record: ToJson + AsAny + std::fmt::Debug + Send + Sync {
     /// The numbers shown as summary columns, `figure_<name>` (none unless the family asks).
     fn summary(&self) -> Vec<(&'static str, f64)> {
@@ -203,7 +203,7 @@ impl Design {
     }
 
     /// The manifest's `diagnostics`: the typed [`Figures`] and the extras in one JSON object.
-    pub fn manifest_diagnostics(&self) -> serde_json::Map<String, serde_json::Value> {
+    pub(crate) fn manifest_diagnostics(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut all = self.diagnostics.clone();
         all.extend(self.figures.json());
         all

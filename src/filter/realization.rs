@@ -72,7 +72,7 @@ impl Realization {
     /// Whether the gains depend on the observed mode.
     /// Feeds every number of the realization (s0, every gain matrix of every step and mode, and
     /// the tracking map), with its shape, as bits into `h`: equal digests mean bit-equal filters.
-    pub fn digest(&self, h: &mut impl sha2::Digest) {
+    pub(crate) fn digest(&self, h: &mut impl sha2::Digest) {
         let mut mat = |m: &Mat| {
             h.update((m.nrows() as u64).to_le_bytes());
             h.update((m.ncols() as u64).to_le_bytes());
@@ -90,7 +90,7 @@ impl Realization {
             mat(m);
         }
     }
-    pub fn is_mode_indexed(&self) -> bool {
+    pub(crate) fn is_mode_indexed(&self) -> bool {
         self.gains.iter().any(|g| g.len() > 1)
     }
     /// The gains of step k of a realization that does not read the mode.

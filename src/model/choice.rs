@@ -20,7 +20,7 @@ type Rows = Vec<Vec<f64>>;
 /// A covariance choice as written in a file (`{ kind = …, … }` or a bare kind name); see [`CovChoice`].
 #[derive(Clone, Debug, Deserialize, Default)]
 #[serde(try_from = "toml::Value")]
-pub enum CovChoiceFile {
+pub(crate) enum CovChoiceFile {
     #[default]
     Nominal,
     Given {
@@ -87,7 +87,7 @@ impl TryFrom<toml::Value> for CovChoiceFile {
 
 /// Resolves a covariance given block by block (missing blocks fall back to `nominal`). `key`
 /// prefixes the error messages.
-pub fn given_covariances(
+pub(crate) fn given_covariances(
     key: &str,
     plant: &Plant,
     nominal: &Covariances,
@@ -134,7 +134,7 @@ pub enum CovChoice {
 
 impl CovChoice {
     /// The file's choice with its filter names resolved by `filter_index`.
-    pub fn resolve(
+    pub(crate) fn resolve(
         key: &str,
         f: &CovChoiceFile,
         plant: &Plant,
@@ -213,7 +213,7 @@ impl CovChoice {
 
 /// A point that is not PSD (a box corner can fail to be) cannot be sampled: refused with the block
 /// and its smallest eigenvalue. `what` labels the choice in the message.
-pub fn check_point(key: &str, what: &str, plant: &Plant, cov: &Covariances) -> Result<()> {
+pub(crate) fn check_point(key: &str, what: &str, plant: &Plant, cov: &Covariances) -> Result<()> {
     for (name, m) in plant.block_names().iter().zip(&cov.blocks) {
         check_psd(&format!("{key} ({what}: block {name})"), m)?;
     }

@@ -40,15 +40,15 @@ impl Disturbance {
         self.step_energy.as_ref().map_or(self.energy, |r| self.energy.min(r.iter().sum()))
     }
     /// The surrogate covariance s W_k⁻¹ at step k (seed 000 eq (39)).
-    pub fn surrogate_at(&self, k: usize) -> Mat {
+    pub(crate) fn surrogate_at(&self, k: usize) -> Mat {
         self.weights[k].clone().try_inverse().expect("weight checked positive definite") * self.surrogate_scale()
     }
     /// The constant surrogate s W⁻¹ (step 0's; the design covariance block of a disturbance).
-    pub fn surrogate_covariance(&self) -> Mat {
+    pub(crate) fn surrogate_covariance(&self) -> Mat {
         self.surrogate_at(0)
     }
     /// The surrogate per step when the weights vary, else None.
-    pub fn surrogate_steps(&self) -> Option<Vec<Mat>> {
+    pub(crate) fn surrogate_steps(&self) -> Option<Vec<Mat>> {
         self.varies().then(|| (0..self.weights.len()).map(|k| self.surrogate_at(k)).collect())
     }
 }
@@ -68,7 +68,7 @@ pub enum DisturbanceChoice<F = usize> {
 
 impl<F> DisturbanceChoice<F> {
     /// The same choice with its filter reference mapped (name → index).
-    pub fn map_filter<G, E>(
+    pub(crate) fn map_filter<G, E>(
         self,
         f: impl FnOnce(F) -> std::result::Result<G, E>,
     ) -> std::result::Result<DisturbanceChoice<G>, E> {
@@ -81,7 +81,7 @@ impl<F> DisturbanceChoice<F> {
 }
 
 /// Per-step mean of w: column k is the deterministic part of w\[k] (zero outside disturbance blocks).
-pub type WMean = Mat;
+pub(crate) type WMean = Mat;
 
 pub(crate) fn offsets(plant: &Plant) -> Vec<usize> {
     let mut o = Vec::new();

@@ -129,7 +129,7 @@ impl Intensity {
     }
 
     /// The mean over step k, [kΔ, (k+1)Δ) (module docs).
-    pub fn step_mean(&self, k: usize, dt: f64) -> f64 {
+    pub(crate) fn step_mean(&self, k: usize, dt: f64) -> f64 {
         self.mean(k as f64 * dt, (k + 1) as f64 * dt)
     }
 }

@@ -15,7 +15,7 @@ pub trait Kinds: DeserializeOwned {
 
 /// Accepts a bare kind name or a table and checks its keys against `kinds`; returns the table with
 /// `kind` in it. `open` kinds take any further key (a `given` covariance names its blocks).
-pub fn check_table(
+pub(crate) fn check_table(
     what: &str,
     kinds: &[(&str, &[&str])],
     open: &[&str],
@@ -60,7 +60,7 @@ pub fn check_table(
 }
 
 /// Reads a [`Kinds`] enum strictly (see the module doc); errors inside the table name their key.
-pub fn strict<'de, D: Deserializer<'de>, T: Kinds>(d: D) -> Result<T, D::Error> {
+pub(crate) fn strict<'de, D: Deserializer<'de>, T: Kinds>(d: D) -> Result<T, D::Error> {
     let table = check_table(T::WHAT, T::KINDS, &[], toml::Value::deserialize(d)?).map_err(D::Error::custom)?;
     serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
         let path = e.path().to_string();
@@ -72,7 +72,7 @@ pub fn strict<'de, D: Deserializer<'de>, T: Kinds>(d: D) -> Result<T, D::Error> 
 /// A field holding a [`Kinds`] enum read with [`strict`] (for places a `deserialize_with` cannot
 /// reach, such as the values of a map).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Strict<T>(pub T);
+pub(crate) struct Strict<T>(pub T);
 
 impl<'de, T: Kinds> Deserialize<'de> for Strict<T> {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {

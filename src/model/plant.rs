@@ -185,7 +185,7 @@ impl Plant {
     /// Whether the plant's matrices are random: modes, dropouts or multiplicative noise. A
     /// deterministic operator from the noise to the error (Ψ, a worst disturbance sequence, the
     /// block-diagonal fast path) exists only when they are not.
-    pub fn random_matrices(&self) -> bool {
+    pub(crate) fn random_matrices(&self) -> bool {
         self.switches() || !self.factors.is_empty()
     }
     /// Whether any matrix of the plant changes over the steps.
@@ -209,7 +209,7 @@ impl Plant {
     }
     /// Dz\[k].
     #[inline]
-    pub fn dz_at(&self, k: usize) -> &Mat {
+    pub(crate) fn dz_at(&self, k: usize) -> &Mat {
         self.dz.at(k)
     }
     /// C\[k]: zero before the first measurement.
@@ -236,11 +236,11 @@ impl Plant {
         }
     }
     /// p(1 − p), the variance of λ\[k] (0 without dropouts).
-    pub fn dropout_variance(&self) -> f64 {
+    pub(crate) fn dropout_variance(&self) -> f64 {
         self.arrival().map_or(0.0, |p| p * (1.0 - p))
     }
     /// E λ\[k] = p (1 without dropouts).
-    pub fn arrival_mean(&self) -> f64 {
+    pub(crate) fn arrival_mean(&self) -> f64 {
         self.arrival().unwrap_or(1.0)
     }
     /// Makes the measurement arrive with probability p: the two modes of the module docs.
@@ -264,7 +264,7 @@ impl Plant {
         }
     }
     /// Whether the matrices depend on a random mode (dropouts included).
-    pub fn switches(&self) -> bool {
+    pub(crate) fn switches(&self) -> bool {
         !matches!(self.measurement, Measurement::Always)
     }
     /// Π, the transition matrix of the modes (\[1] for a plant that does not switch).
@@ -321,7 +321,7 @@ impl Plant {
         }
     }
     /// p(k) = P(θ\[k] = ·) for k = 0..N (\[1] for a plant that does not switch).
-    pub fn mode_probabilities(&self) -> Vec<Vec<f64>> {
+    pub(crate) fn mode_probabilities(&self) -> Vec<Vec<f64>> {
         let (pi, mut p) = (self.transition(), self.initial());
         let mut out = Vec::with_capacity(self.steps());
         for _ in 0..self.steps() {
@@ -331,7 +331,7 @@ impl Plant {
         out
     }
     /// Whether θ\[k] are independent over k with one distribution (every row of Π equal to p(0)).
-    pub fn independent_modes(&self) -> bool {
+    pub(crate) fn independent_modes(&self) -> bool {
         let (pi, p0) = (self.transition(), self.initial());
         (0..pi.nrows()).all(|s| (0..p0.len()).all(|k| pi[(s, k)] == p0[k]))
     }
@@ -344,7 +344,7 @@ impl Plant {
         std::iter::once("x0").chain(self.noise_blocks.iter().map(|(n, _)| n.as_str())).collect()
     }
     /// The index of covariance block `name` in [`Self::block_names`]; the error names `key`.
-    pub fn block_index(&self, key: &str, name: &str) -> Result<usize> {
+    pub(crate) fn block_index(&self, key: &str, name: &str) -> Result<usize> {
         let names = self.block_names();
         names
             .iter()

@@ -27,7 +27,7 @@ pub enum Shape {
 }
 
 impl Shape {
-    pub fn validate(&self, key: &str) -> Result<()> {
+    pub(crate) fn validate(&self, key: &str) -> Result<()> {
         match self {
             Shape::StudentT { nu } if !(*nu > 2.0 && nu.is_finite()) => Err(Error::invalid(
                 format!("{key}.nu"),
@@ -134,7 +134,7 @@ pub enum StandardDraw {
 impl StandardDraw {
     /// Fills `out` with i.i.d. draws, the shape matched once for all of them (a lane's noise).
     #[inline]
-    pub fn fill<'a, R: Rng + ?Sized>(&self, rng: &mut R, out: impl Iterator<Item = &'a mut f64>) {
+    pub(crate) fn fill<'a, R: Rng + ?Sized>(&self, rng: &mut R, out: impl Iterator<Item = &'a mut f64>) {
         match self {
             StandardDraw::Gaussian => out.for_each(|v| *v = StandardNormal.sample(rng)),
             _ => out.for_each(|v| *v = self.draw(rng)),

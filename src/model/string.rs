@@ -39,7 +39,7 @@ use crate::numerics::linalg::{Mat, Vector, block_diag, from_rows, symmetrize};
 /// The `[string]` table of an experiment file.
 #[derive(Deserialize, Clone, Debug)]
 #[serde(deny_unknown_fields)]
-pub struct StringFile {
+pub(crate) struct StringFile {
     #[serde(default = "one")]
     pub length: f64,
     #[serde(default = "one")]
@@ -87,7 +87,7 @@ pub struct StringFile {
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Debug, Default)]
 #[serde(rename_all = "snake_case")]
-pub enum ObservationKind {
+pub(crate) enum ObservationKind {
     #[default]
     Windows,
     Eigen,
@@ -105,7 +105,7 @@ pub enum Observation {
 
 impl Observation {
     /// (ρ_j, e_k) on [0, `length`]: the window average (1/h)∫ e_k, or δ_jk for eigenfunctions.
-    pub fn inner(&self, length: f64, k: usize, j: usize) -> f64 {
+    pub(crate) fn inner(&self, length: f64, k: usize, j: usize) -> f64 {
         match self {
             Observation::Eigen(_) => (k == j + 1) as u8 as f64,
             Observation::Windows { centres, width } => {
@@ -150,7 +150,7 @@ pub struct StringModel {
 }
 
 impl StringModel {
-    pub fn from_file(f: &StringFile) -> Result<Self> {
+    pub(crate) fn from_file(f: &StringFile) -> Result<Self> {
         let key = |k: &str| format!("string.{k}");
         let positive = |k: &str, v: f64| {
             if v > 0.0 && v.is_finite() { Ok(()) } else { Err(Error::invalid(key(k), format!("must be > 0, got {v}"))) }
@@ -208,7 +208,7 @@ impl StringModel {
     }
 
     /// ω_k = c kπ/L.
-    pub fn omega(&self, k: usize) -> f64 {
+    pub(crate) fn omega(&self, k: usize) -> f64 {
         self.speed * k as f64 * std::f64::consts::PI / self.length
     }
     /// q_k = q0 k^{−decay}, with q0 = 1 when q0 follows a time profile (then scaled per step by
@@ -243,12 +243,12 @@ impl StringModel {
     pub fn eigenfunction(&self, k: usize, xi: f64) -> f64 {
         (2.0 / self.length).sqrt() * (k as f64 * std::f64::consts::PI * xi / self.length).sin()
     }
-    /// (ρ_j, e_k): see [`Observation::inner`].
+    /// (ρ_j, e_k): see `Observation::inner`.
     pub fn observe(&self, k: usize, j: usize) -> f64 {
         self.observation.inner(self.length, k, j)
     }
     /// m, the number of observed projections.
-    pub fn n_sensors(&self) -> usize {
+    pub(crate) fn n_sensors(&self) -> usize {
         match &self.observation {
             Observation::Eigen(m) => *m,
             Observation::Windows { centres, .. } => centres.len(),

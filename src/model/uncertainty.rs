@@ -164,7 +164,7 @@ impl CovSet {
     /// itself where the maximizer has a closed form, the weak-duality bound of
     /// [`crate::numerics::solve::sdp::certified_upper`] where clarabel finds it (None where the
     /// closed form is exact).
-    pub fn linear_max(&self, g: &Mat) -> Result<(Mat, Option<f64>)> {
+    pub(crate) fn linear_max(&self, g: &Mat) -> Result<(Mat, Option<f64>)> {
         let closed = match &self.shape {
             SetShape::Box { center, half_width } => Some(center + half_width.zip_map(g, |h, v| h * signum0(v))),
             SetShape::Ball { center, radius } => {
@@ -261,7 +261,7 @@ impl CovSet {
     /// The maximum of ⟨G, S⟩ over the set (its certified upper bound, [`CovSet::linear_max`]) minus
     /// ⟨G, at⟩, and the maximizer: the gap term of seed 000 Algorithm 1, step 3, and the gain of a
     /// worst case over the set.
-    pub fn linear_gain(&self, g: &Mat, at: &Mat) -> Result<(f64, Mat)> {
+    pub(crate) fn linear_gain(&self, g: &Mat, at: &Mat) -> Result<(f64, Mat)> {
         let (s, upper) = self.linear_max(g)?;
         let gain = match upper {
             None => frob_dot(g, &(&s - at)),

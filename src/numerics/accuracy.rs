@@ -14,7 +14,7 @@
 //!   dual objectives. To first order the optimum moves by zᵀr_p (z is the derivative of the optimal
 //!   value in b) and by xᵀr_d (x its derivative in c), so the distance of the reported objective
 //!   from the program's optimum is at most |gap| + |zᵀr_p| + |xᵀr_d|
-//!   ([`crate::numerics::solve::conic::Solution`]'s `objective_error`). When clarabel stops at
+//!   (`crate::numerics::solve::conic::Solution`'s `objective_error`). When clarabel stops at
 //!   its reduced tolerances (AlmostSolved) the figure is at least its reduced relative gap
 //!   tolerance times the objective: that is all the solver then vouches for. Two routes to one optimum, one of them a solver's, therefore agree to
 //!   that figure plus the other route's own error.
@@ -28,7 +28,7 @@ pub fn eigenvalue_error(m: &Mat) -> f64 {
 }
 
 /// The same bound from the matrix's size and Frobenius norm, where the matrix is not kept.
-pub fn eigenvalue_error_of(n: usize, frobenius: f64) -> f64 {
+pub(crate) fn eigenvalue_error_of(n: usize, frobenius: f64) -> f64 {
     n as f64 * f64::EPSILON * frobenius
 }
 
@@ -42,7 +42,7 @@ pub fn recursion_error(steps: usize, n: usize, value: f64) -> f64 {
 
 /// `value` rounded outward past an absolute error `error`: the next double above value + |error|,
 /// so that a computed upper bound stays one after its own rounding.
-pub fn round_up(value: f64, error: f64) -> f64 {
+pub(crate) fn round_up(value: f64, error: f64) -> f64 {
     (value + error.abs()).next_up()
 }
 

@@ -9,11 +9,11 @@ pub type Mat = DMatrix<f64>;
 pub type Vector = DVector<f64>;
 
 /// Relative tolerance for symmetry and for the smallest admissible eigenvalue of a "PSD" matrix.
-pub const PSD_TOL: f64 = 1e-10;
+pub(crate) const PSD_TOL: f64 = 1e-10;
 
 /// Builds a matrix from rows as written in an experiment file, checking that the rows are equally
 /// long and, when given, the expected shape. `key` names the file key in the error.
-pub fn from_rows(key: &str, rows: &[Vec<f64>], shape: Option<(usize, usize)>) -> Result<Mat> {
+pub(crate) fn from_rows(key: &str, rows: &[Vec<f64>], shape: Option<(usize, usize)>) -> Result<Mat> {
     let nr = rows.len();
     let nc = rows.first().map_or(0, Vec::len);
     if let Some(r) = rows.iter().position(|r| r.len() != nc) {
@@ -34,7 +34,7 @@ fn scale(m: &Mat) -> f64 {
 
 /// Checks that `m` is square, symmetric and positive semidefinite (to `PSD_TOL` relative to its
 /// largest entry); the error names `key` and the smallest eigenvalue.
-pub fn check_psd(key: &str, m: &Mat) -> Result<()> {
+pub(crate) fn check_psd(key: &str, m: &Mat) -> Result<()> {
     if !m.is_square() {
         return Err(Error::invalid(key, format!("a covariance must be square, found {}×{}", m.nrows(), m.ncols())));
     }
@@ -109,7 +109,7 @@ pub fn unit(r: usize, c: usize, i: usize, j: usize) -> Mat {
 
 /// E_ij + E_ji for i ≠ j and E_ii on the diagonal: the n×n symmetric matrix with ones at (i, j) and
 /// (j, i), the coefficient of the scalar variable X_ij = X_ji in a symmetric matrix variable X.
-pub fn sym_unit(n: usize, i: usize, j: usize) -> Mat {
+pub(crate) fn sym_unit(n: usize, i: usize, j: usize) -> Mat {
     let mut e = unit(n, n, i, j);
     e[(j, i)] = 1.0;
     e
@@ -117,7 +117,11 @@ pub fn sym_unit(n: usize, i: usize, j: usize) -> Mat {
 
 /// Σ_i w_i X_i for r×c matrices X_i, summed in the order given, starting from zero: a stationary
 /// average Σ_s π_s X_s, or the mixing Σ_j Π_ji X_j of per-mode moments by a Markov chain.
-pub fn weighted_sum<X: std::borrow::Borrow<Mat>>(r: usize, c: usize, terms: impl IntoIterator<Item = (f64, X)>) -> Mat {
+pub(crate) fn weighted_sum<X: std::borrow::Borrow<Mat>>(
+    r: usize,
+    c: usize,
+    terms: impl IntoIterator<Item = (f64, X)>,
+) -> Mat {
     terms.into_iter().fold(Mat::zeros(r, c), |acc, (w, x)| acc + w * x.borrow())
 }
 
@@ -139,7 +143,7 @@ pub fn frob_dot(a: &Mat, b: &Mat) -> f64 {
 }
 
 /// Whether a symmetric matrix is PSD to `PSD_TOL` relative to its largest entry.
-pub fn is_psd(m: &Mat) -> bool {
+pub(crate) fn is_psd(m: &Mat) -> bool {
     min_eigenvalue(m) >= -PSD_TOL * m.amax().max(1.0)
 }
 
@@ -160,7 +164,7 @@ pub fn sym_eigen(m: &Mat) -> Result<(Vec<f64>, Mat)> {
 }
 
 /// The largest eigenvalue of a symmetric PSD matrix and a unit eigenvector for it ([`sym_eigen`]).
-pub fn top_eigen(m: &Mat) -> Result<(f64, Vector)> {
+pub(crate) fn top_eigen(m: &Mat) -> Result<(f64, Vector)> {
     let (values, vectors) = sym_eigen(m)?;
     let top = values.len() - 1;
     Ok((values[top], vectors.column(top).into_owned()))

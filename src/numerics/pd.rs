@@ -50,7 +50,7 @@ pub fn solve_error(eigenvalues: &[f64]) -> f64 {
 
 /// A symmetric positive definite S, factored, with its condition number and the error bound of
 /// solves with it.
-pub struct PdSolver {
+pub(crate) struct PdSolver {
     chol: Cholesky<f64, Dyn>,
     /// κ₂(S) = λ_max / λ_min.
     pub kappa: f64,
@@ -72,7 +72,7 @@ impl PdSolver {
         }
     }
     /// N S⁻¹, by solving S Xᵀ = Nᵀ (a solve, not a product with an inverse, which could lose κ₂²).
-    pub fn solve_right(&self, n: &Mat) -> Mat {
+    pub(crate) fn solve_right(&self, n: &Mat) -> Mat {
         self.chol.solve(&n.transpose()).transpose()
     }
     /// S⁻¹ (for quadratic forms νᵀ S⁻¹ ν; gains use [`PdSolver::solve_right`]).

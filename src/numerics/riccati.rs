@@ -16,7 +16,7 @@
 //!
 //! Two ways to apply S⁻¹: [`innovation`] uses the pseudo-inverse S⁺ (a genuinely singular S — a
 //! step without measurements, a noise-free channel of a truth model — gets a zero gain in the
-//! directions it lacks); [`innovation_pd`] is for an S that is positive definite by construction
+//! directions it lacks); `innovation_pd` is for an S that is positive definite by construction
 //! (seed 004's S_α = W_m + α I with α > 0): a Cholesky solve that drops nothing, refused when its
 //! error bound ([`super::pd`]) exceeds [`super::pd::MAX_SOLVE_ERROR`].
 
@@ -26,7 +26,7 @@ use super::pd::{MAX_SOLVE_ERROR, PdSolver};
 /// The innovation of one step: S (symmetrized), its (pseudo-)inverse and the gain K.
 pub struct Innovation {
     pub s: Mat,
-    /// S⁺ ([`innovation`]) or S⁻¹ ([`innovation_pd`]).
+    /// S⁺ ([`innovation`]) or S⁻¹ (`innovation_pd`).
     pub s_inv: Mat,
     pub k: Mat,
     solver: Option<PdSolver>,
@@ -51,7 +51,7 @@ pub fn innovation(a: &Mat, c: &Mat, p: &Mat, dwd: &Mat, bwd: &Mat) -> Innovation
     Innovation { s, s_inv, k, solver: None }
 }
 
-/// Why [`innovation_pd`] refused a step: S's condition number κ₂ and the worst-case relative
+/// Why `innovation_pd` refused a step: S's condition number κ₂ and the worst-case relative
 /// error of a solve with it ([`super::pd::solve_error`]; infinite when S is not positive definite).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IllConditioned {
@@ -63,7 +63,7 @@ pub struct IllConditioned {
 /// Cholesky solve. `extra` are further right sides N that will be solved with this S (the
 /// filtering form's output gain): when every right side is zero the solve is exact whatever κ₂;
 /// otherwise a bound above [`MAX_SOLVE_ERROR`], or an S that is not positive definite, is refused.
-pub fn innovation_pd(
+pub(crate) fn innovation_pd(
     a: &Mat,
     c: &Mat,
     p: &Mat,
@@ -85,6 +85,6 @@ pub fn innovation_pd(
 
 /// P' = A P Aᵀ + B W Bᵀ − K S Kᵀ (module docs), given `bwb` = B W Bᵀ; not symmetrized, since the
 /// Markov-jump recursion mixes the modes' terms first.
-pub fn propagate(a: &Mat, p: &Mat, bwb: &Mat, k: &Mat, s: &Mat) -> Mat {
+pub(crate) fn propagate(a: &Mat, p: &Mat, bwb: &Mat, k: &Mat, s: &Mat) -> Mat {
     a * p * a.transpose() + bwb - k * s * k.transpose()
 }

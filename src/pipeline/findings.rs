@@ -13,7 +13,7 @@ use super::{DesignedFilter, ScenarioOutcome};
 /// The stream index of the pilot record: no scenario has it.
 const PILOT_STREAM: usize = 1 << 40;
 
-/// One record y[0..N] (column k = y[k]) of the experiment's truth at the nominal covariances, drawn
+/// One record y\[0..N] (column k = y\[k]) of the experiment's truth at the nominal covariances, drawn
 /// Gaussian from the pilot stream: the one record a user would have to tune a filter on
 /// ([`RunView::pilot_record`]).
 pub fn pilot_record(exp: &Experiment) -> Mat {

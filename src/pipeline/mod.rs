@@ -2,7 +2,7 @@
 //! ([`design`]), resolve every scenario's covariance and make it concrete ([`scenarios`]), its
 //! exact errors, its Monte Carlo from the one source the command chose ([`MonteCarlo`]), and one
 //! typed [`RunOutcome`] ([`outcome`]) for every report. Shard runs ([`shards`]) and `bench`
-//! ([`bench`]) go through the same stages ([`each_scenario`]).
+//! ([`mod@bench`]) go through the same stages ([`each_scenario`]).
 
 pub mod bench;
 pub mod budget;

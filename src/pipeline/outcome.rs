@@ -39,7 +39,7 @@ pub struct ScenarioOutcome {
     pub mc_seconds: f64,
     pub trajectories: Vec<Trajectory>,
     /// The noise-free z̄\[k] the sample trials scatter around (seed 003 Figs. 3–4, columns are
-    /// steps: [`crate::analysis::noise_free::noise_free_output`]); None without a known input.
+    /// steps: `crate::analysis::noise_free::noise_free_output`); None without a known input.
     pub noise_free: Option<Mat>,
     /// With `--per-trial`: per filter, the summed error J of every trial in trial order (else empty).
     pub per_trial: Vec<Vec<f64>>,

@@ -1,4 +1,4 @@
-//! One block of [`LANES`] trials simulated together (docs/math.md §6): the plant
+//! One block of `LANES` trials simulated together (docs/math.md §6): the plant
 //! x\[k+1] = A_θ x + B_θ w + Σ_i ζ_i (A_i x + B_i w) + r, y = C_θ x + D_θ w + …, z = Cz x + Dz w + …
 //! (seed 003 (3.1) for the factors, seed 001 (1) for the modes), and every filter on the same y
 //! (common random numbers), s\[k+1] = Af s + Bf y + Gf r, ẑ = Cf s + Df y, or in error coordinates
@@ -13,7 +13,7 @@ use crate::sim::noise::LaneDraw;
 use crate::sim::scenario::Scenario;
 
 /// Preallocated per-thread buffers: a block allocates nothing.
-pub struct Workspace {
+pub(crate) struct Workspace {
     pub draw: LaneDraw,
     pub(super) x: Vec<Row>,
     x_next: Vec<Row>,
@@ -126,7 +126,7 @@ fn add_factors(sc: &Scenario, which: usize, k: usize, zeta: &[Row], x: &[Row], o
 }
 
 /// What the engine shows of step k and filter f, over the block's lanes.
-pub struct StepView<'a> {
+pub(crate) struct StepView<'a> {
     pub k: usize,
     pub f: usize,
     pub z: &'a [Row],
@@ -143,7 +143,7 @@ pub struct StepView<'a> {
 /// filter f. A filter with an error form carries ε = s − M x instead of s and
 /// gets e from ε and w directly; its ẑ is then z − e, for display only. On return `ws` holds
 /// x\[N] and every filter's final state.
-pub fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
+pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, checked just above.

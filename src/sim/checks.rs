@@ -38,7 +38,7 @@ pub fn ellipsoid(
 /// The ratio check of filter f once the block has ended (`ws` holds x\[N], the final states and
 /// E_N): `sums` holds Σ_{k<N} |e_z\[k]|² per lane, e = x − s, in error coordinates
 /// x − s = (I − M) x − ε, = −ε for M = I.
-pub fn terminal(sc: &Scenario, ws: &mut Workspace, f: usize, sums: &Row, active: usize, st: &mut FilterStats) {
+pub(crate) fn terminal(sc: &Scenario, ws: &mut Workspace, f: usize, sums: &Row, active: usize, st: &mut FilterStats) {
     let Some(Some(PerTrialBound::Ratio { bound, terminal_weight })) = sc.ratios.map(|rc| rc.bounds[f]) else {
         return;
     };

@@ -1,5 +1,5 @@
-//! Trials in lanes: the engine simulates [`LANES`] trials at once, a vector v of n components as n
-//! rows of [`LANES`] values (row i holds component i of every lane's v: the lanes' vectors are the
+//! Trials in lanes: the engine simulates `LANES` trials at once, a vector v of n components as n
+//! rows of `LANES` values (row i holds component i of every lane's v: the lanes' vectors are the
 //! columns of an n × LANES matrix stored row by row). One step of the plant or a filter is then a
 //! few matrix–matrix products M·V whose inner loop runs over contiguous lanes and vectorizes, and
 //! each matrix is read once per block instead of once per trial.
@@ -19,10 +19,10 @@ use crate::numerics::linop::LinOp;
 /// per-matrix overhead of each product more often (5.3–5.5 and 4.4–4.8 µs per trial of Example 2's
 /// plant against 4.0–4.4 µs at 64); 128 lanes are no faster (3.9–4.0 µs, within the machine's
 /// noise) and double every per-thread buffer.
-pub const LANES: usize = 64;
+pub(crate) const LANES: usize = 64;
 
 /// One component of a vector across the lanes.
-pub type Row = [f64; LANES];
+pub(crate) type Row = [f64; LANES];
 
 /// A lane vector of `n` components, all zero.
 pub fn zeros(n: usize) -> Vec<Row> {
@@ -35,7 +35,7 @@ const BLOCKED_MIN_ENTRIES: usize = 4096;
 
 /// out ← M x (`add`: out ← out + M x) for a dense M, x with M.ncols() rows.
 #[inline(always)]
-pub fn gemm(m: &Mat, x: &[Row], add: bool, out: &mut [Row]) {
+pub(crate) fn gemm(m: &Mat, x: &[Row], add: bool, out: &mut [Row]) {
     debug_assert!(x.len() == m.ncols() && out.len() == m.nrows());
     if m.len() >= BLOCKED_MIN_ENTRIES {
         let xs = DMatrixView::from_slice_with_strides(x.as_flattened(), x.len(), LANES, LANES, 1);
@@ -59,7 +59,7 @@ pub fn gemm(m: &Mat, x: &[Row], add: bool, out: &mut [Row]) {
 
 /// out ← out + a·x over the lanes.
 #[inline(always)]
-pub fn axpy(a: f64, x: &Row, out: &mut Row) {
+pub(crate) fn axpy(a: f64, x: &Row, out: &mut Row) {
     for (o, v) in out.iter_mut().zip(x) {
         *o += a * v;
     }
@@ -86,7 +86,7 @@ pub fn apply(op: &LinOp, x: &[Row], add: bool, out: &mut [Row]) {
 
 /// out ← out + c ⊙ t row by row: a per-lane coefficient (a multiplicative factor's ζ_i(k)).
 #[inline(always)]
-pub fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
+pub(crate) fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
     for (o, r) in out.iter_mut().zip(t) {
         for ((o, v), c) in o.iter_mut().zip(r).zip(c) {
             *o += c * v;
@@ -96,7 +96,7 @@ pub fn add_scaled(c: &Row, t: &[Row], out: &mut [Row]) {
 
 /// out ← out + α v in every lane (a known input r\[k], a mean).
 #[inline(always)]
-pub fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
+pub(crate) fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
     for (o, &a) in out.iter_mut().zip(v) {
         for x in o.iter_mut() {
             *x += alpha * a;
@@ -106,7 +106,7 @@ pub fn add_vector(alpha: f64, v: &[f64], out: &mut [Row]) {
 
 /// out ← out − t.
 #[inline(always)]
-pub fn subtract(t: &[Row], out: &mut [Row]) {
+pub(crate) fn subtract(t: &[Row], out: &mut [Row]) {
     for (o, t) in out.iter_mut().zip(t) {
         for (o, v) in o.iter_mut().zip(t) {
             *o -= v;
@@ -127,7 +127,7 @@ pub fn difference(a: &[Row], b: &[Row], out: &mut [Row]) {
 /// Where lane l is in mode `mode`, out ← t (`add`: out + t): assembles M_θ V from the product
 /// with each mode's matrix when the lanes' modes differ.
 #[inline(always)]
-pub fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [Row]) {
+pub(crate) fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [Row]) {
     for (o, r) in out.iter_mut().zip(t) {
         for ((o, v), m) in o.iter_mut().zip(r).zip(modes) {
             let keep = if add { *o + v } else { *v };
@@ -138,7 +138,7 @@ pub fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [
 
 /// |e|² per lane.
 #[inline(always)]
-pub fn squared_norm(e: &[Row], out: &mut Row) {
+pub(crate) fn squared_norm(e: &[Row], out: &mut Row) {
     *out = [0.0; LANES];
     for r in e {
         for (o, v) in out.iter_mut().zip(r) {

@@ -60,12 +60,12 @@ impl McStats {
         }
     }
     /// Whether `o` has the same accumulators (filters, steps, NEES, pairs): only then do they merge.
-    pub fn same_shape(&self, o: &McStats) -> bool {
+    pub(crate) fn same_shape(&self, o: &McStats) -> bool {
         let f = |m: &McStats| m.filters.iter().map(|f| (f.steps.len(), f.nees.len())).collect::<Vec<_>>();
         self.paired.len() == o.paired.len() && f(self) == f(o)
     }
     /// The pairs (i, j) in the order of `paired`.
-    pub fn pairs(nf: usize) -> Vec<(usize, usize)> {
+    pub(crate) fn pairs(nf: usize) -> Vec<(usize, usize)> {
         (0..nf).flat_map(|i| (i + 1..nf).map(move |j| (i, j))).collect()
     }
 }

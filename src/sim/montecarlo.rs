@@ -1,11 +1,11 @@
 //! The Monte Carlo engine: every filter of the experiment on the same draws (common random
 //! numbers), blocks of trials in parallel with rayon, streaming per-step accumulators.
 //!
-//! Trials are cut into fixed blocks of [`BLOCK`] trials, simulated together in lanes
+//! Trials are cut into fixed blocks of `BLOCK` trials, simulated together in lanes
 //! ([`crate::sim::block`]). A block's statistics per (filter, step) are computed over its lanes;
 //! blocks run in parallel and their statistics are merged with Chan's formula in the fixed order of
 //! a dyadic tree over block indices ([`crate::sim::tree`]), which any cut into shards reproduces.
-//! Together with per-trial random streams ([`crate::sim::noise::trial_rng`]) this makes every
+//! Together with per-trial random streams (`trial_rng`) this makes every
 //! figure bit-identical for any number of threads and any cut into shards. Memory is
 //! O(filters × steps × log blocks) (the tree's stack), not growing with the trials beyond that log.
 
@@ -17,7 +17,8 @@ use crate::sim::checks;
 use crate::sim::lanes::{self, LANES};
 // The engine's inputs and outputs live below it (so that the block loop, the checks and the tree
 // need not import the engine); re-exported here, where callers look for them.
-pub use crate::sim::mc_stats::{FilterStats, McStats};
+pub use crate::sim::mc_stats::FilterStats;
+pub use crate::sim::mc_stats::McStats;
 pub use crate::sim::plant_ops::PlantOps;
 pub use crate::sim::scenario::{RatioCheck, Scenario};
 use crate::sim::stats::Welford;
@@ -25,12 +26,12 @@ use crate::sim::tree::{Node, Tree};
 
 /// Trials per block: the lanes simulated together, the unit of parallel work and of the fixed
 /// reduction order.
-pub const BLOCK: u64 = LANES as u64;
+pub(crate) const BLOCK: u64 = LANES as u64;
 
 /// Runs block `first..first + active` and returns its statistics: per (filter, step) the mean and
 /// spread over the block's lanes ([`Welford::of`]), ready to be merged in block order; and per
 /// filter each lane's summed error J.
-pub fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -> (McStats, Vec<[f64; LANES]>) {
+pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -> (McStats, Vec<[f64; LANES]>) {
     let nf = sc.filters.len();
     let mut st = McStats::new(sc);
     let plant = sc.plant;
@@ -76,7 +77,7 @@ pub fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize) -
 
 /// Blocks run in parallel per wave; a wave's results are merged before the next starts, so memory
 /// stays bounded by `WAVE` accumulators whatever the number of trials.
-pub const WAVE: u64 = 256;
+pub(crate) const WAVE: u64 = 256;
 
 /// The number of blocks of a run of `trials` trials.
 pub fn blocks(trials: u64) -> u64 {
@@ -92,7 +93,7 @@ pub struct Partial {
 
 /// Runs blocks `range` of a run of `trials` trials of one scenario on the current rayon pool.
 /// `progress` is called with the number of trials finished by each block.
-pub fn run_range(
+pub(crate) fn run_range(
     sc: &Scenario,
     trials: u64,
     range: std::ops::Range<u64>,
@@ -127,7 +128,7 @@ pub fn run_range(
 
 /// The statistics of a whole run from its tree nodes in block order (one range's or every
 /// shard's, shard after shard): the same merges whoever computed the nodes.
-pub fn reduce(sc: &Scenario, nodes: impl IntoIterator<Item = Node>) -> McStats {
+pub(crate) fn reduce(sc: &Scenario, nodes: impl IntoIterator<Item = Node>) -> McStats {
     Tree::from_nodes(nodes).finish(McStats::new(sc))
 }
 

@@ -18,7 +18,7 @@ fn sum(values: &[f64], f: impl Fn(f64) -> f64) -> f64 {
 }
 
 /// z-quantile of a two-sided 95 % normal interval.
-pub const Z95: f64 = 1.959_963_984_540_054;
+pub(crate) const Z95: f64 = 1.959_963_984_540_054;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Welford {
@@ -79,7 +79,7 @@ impl Welford {
     }
 
     /// 95 % confidence interval of the mean (normal approximation).
-    pub fn ci95(&self) -> (f64, f64) {
+    pub(crate) fn ci95(&self) -> (f64, f64) {
         let h = Z95 * self.std_error();
         (self.mean - h, self.mean + h)
     }

@@ -9,7 +9,7 @@
 //! After blocks [0, j) the stack is the binary decomposition of j, whoever pushed them: a shard
 //! covering [a, b) keeps its own stack of maximal aligned nodes (O(log) of them), and pushing
 //! every shard's nodes in block order rebuilds the one-machine stack exactly. The remaining stack
-//! is folded left to right ([`Tree::finish`]).
+//! is folded left to right (`Tree::finish`).
 
 use crate::sim::mc_stats::McStats;
 
@@ -31,7 +31,7 @@ impl Node {
 
 /// The stack of unmerged nodes.
 #[derive(Debug, Default)]
-pub struct Tree {
+pub(crate) struct Tree {
     stack: Vec<Node>,
 }
 
@@ -51,7 +51,7 @@ impl Tree {
     }
 
     /// The nodes still on the stack, in block order: what a shard hands on.
-    pub fn into_nodes(self) -> Vec<Node> {
+    pub(crate) fn into_nodes(self) -> Vec<Node> {
         self.stack
     }
 
@@ -64,7 +64,7 @@ impl Tree {
     }
 
     /// Rebuilds the tree from nodes given in block order (every shard's, shard after shard).
-    pub fn from_nodes(nodes: impl IntoIterator<Item = Node>) -> Self {
+    pub(crate) fn from_nodes(nodes: impl IntoIterator<Item = Node>) -> Self {
         let mut t = Tree::default();
         for n in nodes {
             t.push(n);

@@ -170,7 +170,7 @@ struct FilterVars {
     g: Option<AffMat>,
 }
 
-/// Solves the structure's SDP: Theorem 1's LMIs ([`Conditions`]) with its change of variables,
+/// Solves the structure's SDP: Theorem 1's LMIs (`Conditions`) with its change of variables,
 /// minimizing γ² at `level`.
 pub fn synthesize_tuned(
     plant: &Plant,

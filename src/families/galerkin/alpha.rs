@@ -4,8 +4,8 @@
 //!
 //! A user has one record y[0..N] and the projected, regularized model of
 //! [`super::projected`]. Its Kalman filter predicts the innovations
-//! ν[k] = y[k] − C x̂[k|k−1] to have covariance S_α[k] = C P̄[k] Cᵀ + S_α/Δ, so the discrepancy
-//! D(α) = (1/(N m)) Σ_k ν[k]ᵀ S_α[k]⁻¹ ν[k] is ≈ 1 when the model explains the record. A large α
+//! ν\[k] = y\[k] − C x̂\[k|k−1] to have covariance S_α\[k] = C P̄\[k] Cᵀ + S_α/Δ, so the discrepancy
+//! D(α) = (1/(N m)) Σ_k ν\[k]ᵀ S_α\[k]⁻¹ ν\[k] is ≈ 1 when the model explains the record. A large α
 //! pretends the noise is larger than it is (D < 1); as α → 0 the model believes the noise-free
 //! combinations of W_m exactly while it misses the truth's modes beyond n, and D grows. Morozov's
 //! rule: take the α where D(α) = 1 (bracketed on the grid, then bisected on log α), the smallest α of the
@@ -38,7 +38,7 @@ pub struct AlphaChoice {
 }
 
 /// The string experiment the rule works on: the string, its sampled plant, the nominal covariances
-/// and one record y[0..N] of the truth (column k = y[k]).
+/// and one record y\[0..N] of the truth (column k = y\[k]).
 pub struct Pilot<'a> {
     pub model: &'a StringModel,
     pub plant: &'a Plant,

@@ -10,7 +10,7 @@
 //! **Regularization.** The measurement intensity W_m is replaced by S_α = W_m + α I (Tikhonov,
 //! seed 004 eq (6)); α = 0 with a singular W_m leaves the Kalman–Bucy gain P Cᵀ S⁻¹ undefined and is
 //! refused. For α > 0 the innovation covariance C P Cᵀ + S_α/Δ is positive definite and is solved
-//! by Cholesky ([`crate::numerics::riccati::innovation_pd`]), never by a pseudo-inverse that
+//! by Cholesky (`crate::numerics::riccati::innovation_pd`), never by a pseudo-inverse that
 //! would drop its small eigenvalues; a step whose solve has a worst-case relative error (condition
 //! number × a multiple of ε, [`crate::numerics::pd`]) above [`crate::numerics::pd::MAX_SOLVE_ERROR`]
 //! is refused with its condition number, under the key `filters.NAME.alpha`.

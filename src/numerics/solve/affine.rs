@@ -1,5 +1,5 @@
 //! Matrices affine in the decision variables, c + Σ_k x_k M_k, for writing LMIs block by block as
-//! they are printed (seed 003 (4.42)–(4.43)) and handing them to [`Conic::psd`].
+//! they are printed (seed 003 (4.42)–(4.43)) and handing them to `Conic::psd`.
 
 use std::collections::BTreeMap;
 
@@ -8,7 +8,7 @@ use crate::numerics::linalg::{Mat, sym_unit, unit};
 
 /// Hands out consecutive variable indices.
 #[derive(Default)]
-pub struct Vars {
+pub(crate) struct Vars {
     pub count: usize,
 }
 
@@ -44,7 +44,7 @@ impl Vars {
 
 /// c + Σ_k x_k M_k.
 #[derive(Clone, Debug)]
-pub struct AffMat {
+pub(crate) struct AffMat {
     pub c: Mat,
     pub terms: BTreeMap<usize, Mat>,
 }
@@ -57,7 +57,7 @@ impl AffMat {
         AffMat { c, terms: BTreeMap::new() }
     }
     /// x · M for one scalar variable x.
-    pub fn scalar_times(var: usize, m: Mat) -> Self {
+    pub(crate) fn scalar_times(var: usize, m: Mat) -> Self {
         let mut a = AffMat::zeros(m.nrows(), m.ncols());
         a.terms.insert(var, m);
         a
@@ -69,7 +69,7 @@ impl AffMat {
         AffMat { c: f(&self.c), terms: self.terms.iter().map(|(k, m)| (*k, f(m))).collect() }
     }
     /// self · R.
-    pub fn rmul(&self, r: &Mat) -> Self {
+    pub(crate) fn rmul(&self, r: &Mat) -> Self {
         self.map(|m| m * r)
     }
     pub fn scale(&self, s: f64) -> Self {
@@ -95,13 +95,13 @@ impl AffMat {
         self.add(&o.scale(-1.0))
     }
     /// The diagonal part (for the determinant bound [[Ψ, Z], [Zᵀ, Diag Z]]).
-    pub fn diagonal(&self) -> Self {
+    pub(crate) fn diagonal(&self) -> Self {
         self.map(|m| Mat::from_diagonal(&m.diagonal()))
     }
 
     /// The symmetric block matrix whose lower blocks are `lower[i][j]` (j ≤ i; None is zero) with
     /// diagonal block sizes `sizes`; the upper blocks are the transposes.
-    pub fn symmetric_blocks(sizes: &[usize], lower: &[Vec<Option<AffMat>>]) -> Self {
+    pub(crate) fn symmetric_blocks(sizes: &[usize], lower: &[Vec<Option<AffMat>>]) -> Self {
         let offs: Vec<usize> = sizes.iter().scan(0, |o, s| Some(std::mem::replace(o, *o + s))).collect();
         let d: usize = sizes.iter().sum();
         let mut out = AffMat::zeros(d, d);
@@ -126,7 +126,7 @@ impl AffMat {
     }
 
     /// Adds self ⪰ 0 to the program.
-    pub fn psd_into(&self, conic: &mut Conic) {
+    pub(crate) fn psd_into(&self, conic: &mut Conic) {
         let terms: Vec<(usize, Mat)> = self.terms.iter().map(|(k, m)| (*k, m.clone())).collect();
         conic.psd(&self.c, &terms);
     }
@@ -141,7 +141,7 @@ impl AffMat {
     }
 
     /// [l r].
-    pub fn hstack(l: &AffMat, r: &AffMat) -> AffMat {
+    pub(crate) fn hstack(l: &AffMat, r: &AffMat) -> AffMat {
         let (rows, c1) = l.shape();
         let c2 = r.shape().1;
         let place = |x: &Mat, y: &Mat| {
@@ -154,7 +154,7 @@ impl AffMat {
     }
 
     /// [t; b].
-    pub fn vstack(t: &AffMat, b: &AffMat) -> AffMat {
+    pub(crate) fn vstack(t: &AffMat, b: &AffMat) -> AffMat {
         let (r1, cols) = t.shape();
         let r2 = b.shape().0;
         let place = |x: &Mat, y: &Mat| {

@@ -21,7 +21,7 @@ unsafe extern "C" {
 /// (aniso_dropout: 17 s of system time and 405 000 involuntary context switches for the same
 /// numbers). Set here, before the first clarabel solve, so it does not depend on the user's
 /// OPENBLAS_NUM_THREADS.
-pub fn single_threaded_blas() {
+pub(crate) fn single_threaded_blas() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     // SAFETY: a plain setter of OpenBLAS's global thread count, called once before any BLAS call
     // of ours; it takes no pointers.
@@ -30,7 +30,7 @@ pub fn single_threaded_blas() {
 
 /// A solved program.
 #[derive(Clone, Debug)]
-pub struct Solution {
+pub(crate) struct Solution {
     pub x: Vec<f64>,
     /// The dual point, row by row as the constraints were added (certified bounds use it).
     pub z: Vec<f64>,
@@ -43,8 +43,7 @@ pub struct Solution {
     /// weighted by the other side's variables (`numerics::accuracy`'s module docs). What a comparison with another route allows the
     /// solver.
     pub objective_error: f64,
-    /// The primal and dual objectives clarabel reports: their difference is its duality gap.
-    pub primal_objective: f64,
+    /// The dual objective clarabel reports (a lower bound on a minimum when the dual is feasible).
     pub dual_objective: f64,
     /// The larger of clarabel's relative primal and dual residuals.
     pub residual: f64,
@@ -107,10 +106,10 @@ impl Tuning {
 
 /// clarabel's default reduced relative gap tolerance (`reduced_tol_gap_rel`), what its
 /// AlmostSolved status promises of the objective.
-pub const ALMOST_GAP_REL: f64 = 5e-5;
+pub(crate) const ALMOST_GAP_REL: f64 = 5e-5;
 
 #[derive(Default, Clone)]
-pub struct Conic {
+pub(crate) struct Conic {
     rows: Vec<usize>,
     cols: Vec<usize>,
     vals: Vec<f64>,
@@ -133,7 +132,7 @@ impl Conic {
     }
 
     /// constant + Σ coef·x ≥ 0, one row per entry.
-    pub fn nonnegative(&mut self, rows: Vec<(f64, Vec<(usize, f64)>)>) {
+    pub(crate) fn nonnegative(&mut self, rows: Vec<(f64, Vec<(usize, f64)>)>) {
         let n = rows.len();
         for (c, t) in rows {
             self.push_row(c, t);
@@ -142,7 +141,7 @@ impl Conic {
     }
 
     /// (constant_i + Σ coef·x)_i in the second-order cone (first entry ≥ norm of the rest).
-    pub fn second_order(&mut self, rows: Vec<(f64, Vec<(usize, f64)>)>) {
+    pub(crate) fn second_order(&mut self, rows: Vec<(f64, Vec<(usize, f64)>)>) {
         let n = rows.len();
         for (c, t) in rows {
             self.push_row(c, t);
@@ -194,12 +193,12 @@ impl Conic {
     }
 
     /// Minimizes costᵀx; anything but an (almost) solved status is an error naming it.
-    pub fn minimize(self, cost: &[f64]) -> Result<Solution, String> {
+    pub(crate) fn minimize(self, cost: &[f64]) -> Result<Solution, String> {
         self.minimize_tuned(cost, &Tuning::default()).map_err(|f| f.to_string())
     }
 
     /// Minimizes costᵀx with the given settings; a failure says whether it is infeasibility.
-    pub fn minimize_tuned(&self, cost: &[f64], tuning: &Tuning) -> Result<Solution, Failure> {
+    pub(crate) fn minimize_tuned(&self, cost: &[f64], tuning: &Tuning) -> Result<Solution, Failure> {
         single_threaded_blas();
         let nvar = cost.len();
         let a =
@@ -241,7 +240,6 @@ impl Conic {
                         first_order
                     }
                 },
-                primal_objective: sol.obj_val,
                 dual_objective: sol.obj_val_dual,
                 residual: sol.r_prim.max(sol.r_dual),
             }),

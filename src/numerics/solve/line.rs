@@ -5,7 +5,7 @@
 /// argmax over τ ∈ [0, 1] of a concave φ, given φ'(τ) (non-increasing). Regula falsi with the
 /// Illinois modification on φ', which keeps a bracket and converges superlinearly; stops when the
 /// bracket is shorter than `tol`. An endpoint is returned when φ' does not change sign.
-pub fn maximize_concave_01(dphi: impl Fn(f64) -> f64, tol: f64) -> f64 {
+pub(crate) fn maximize_concave_01(dphi: impl Fn(f64) -> f64, tol: f64) -> f64 {
     let (mut a, mut fa) = (0.0, dphi(0.0));
     if fa <= 0.0 {
         return 0.0;
@@ -69,7 +69,7 @@ pub fn bisect(
 /// (`analysis::theorem1::analyze`): a geometric grid from 1e-12 q̄ to q̄(1 − 1e-12) (γ²(q) is
 /// smooth and has one minimum on every filter we have met, but the grid does not rely on it), then
 /// golden sections in the grid cell around the best point.
-pub fn minimize_on_open(f: &impl Fn(f64) -> f64, q_bar: f64) -> (f64, f64) {
+pub(crate) fn minimize_on_open(f: &impl Fn(f64) -> f64, q_bar: f64) -> (f64, f64) {
     let mut grid: Vec<f64> = (0..=24).map(|i| q_bar * 10f64.powf(-12.0 + 12.0 * i as f64 / 24.0)).collect();
     grid.extend((1..=12).map(|j| q_bar * (1.0 - 10f64.powi(-j))));
     grid.sort_by(f64::total_cmp);

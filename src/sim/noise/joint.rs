@@ -33,7 +33,7 @@ impl JointInput {
         JointInput::Correlated { factor: k_half * psd_factor(&b) }
     }
 
-    pub fn dim(&self) -> usize {
+    pub(crate) fn dim(&self) -> usize {
         match self {
             JointInput::Correlated { factor } => factor.nrows(),
             JointInput::Ellipsoid { k_half, .. } => k_half.nrows(),

@@ -7,4 +7,5 @@ mod joint;
 mod sampler;
 
 pub use joint::JointInput;
-pub use sampler::{LaneDraw, NoiseSampler, Stream, TrialDraw, TrialRng, trial_rng};
+pub(crate) use sampler::LaneDraw;
+pub use sampler::NoiseSampler;

@@ -18,13 +18,13 @@ use crate::sim::lanes::{self, LANES, Row};
 /// The generator of every trial stream: xoshiro256++ (rand's named, reproducible implementation).
 /// Measured against ChaCha8 (rand_chacha, and rand's SIMD chacha20) with rand_distr's ziggurat
 /// StandardNormal, seeding included: 3.4 ns per normal against 4.8–4.9 ns (docs/architecture.md).
-pub type TrialRng = Xoshiro256PlusPlus;
+pub(crate) type TrialRng = Xoshiro256PlusPlus;
 
 /// What a trial stream is drawn for. Separate streams keep the noise of a trial the same whether
 /// or not the plant switches modes or carries multiplicative factors, and let a lane draw step by
 /// step without fixing how the three kinds interleave.
 #[derive(Clone, Copy, Debug)]
-pub enum Stream {
+pub(crate) enum Stream {
     Noise = 0,
     Modes = 1,
     Factors = 2,
@@ -34,7 +34,7 @@ pub enum Stream {
 /// never on the thread or the block that runs it, so results are identical for any thread count.
 /// SplitMix64 (a bijection of u64) mixes them: distinct (trial, purpose) give distinct 64-bit
 /// seeds, which xoshiro's own SplitMix64 expansion turns into 256-bit states.
-pub fn trial_rng(seed: u64, scenario: usize, trial: u64, purpose: Stream) -> TrialRng {
+pub(crate) fn trial_rng(seed: u64, scenario: usize, trial: u64, purpose: Stream) -> TrialRng {
     let base = splitmix(seed ^ splitmix(scenario as u64 + 1));
     TrialRng::seed_from_u64(splitmix(base ^ splitmix(trial.wrapping_mul(4) + purpose as u64)))
 }
@@ -79,12 +79,6 @@ pub struct LaneDraw {
     xi: Vec<Row>,
 }
 
-impl LaneDraw {
-    pub fn active(&self) -> usize {
-        self.active
-    }
-}
-
 /// One trial's draws, all steps: the initial state and w\[k] as column k of `w` (for tests and
 /// the discrepancy pilot; drawn by the block code with one lane).
 pub struct TrialDraw {
@@ -119,7 +113,7 @@ impl NoiseSampler {
     }
 
     /// Adds a deterministic sequence to w (column k is added to w\[k]).
-    pub fn with_mean(mut self, w_mean: Option<Mat>) -> Self {
+    pub(crate) fn with_mean(mut self, w_mean: Option<Mat>) -> Self {
         self.w_mean = w_mean;
         self
     }
@@ -242,7 +236,7 @@ impl NoiseSampler {
     }
 
     /// Number of standardized scalars one trial consumes.
-    pub fn scalars_per_trial(&self) -> usize {
+    pub(crate) fn scalars_per_trial(&self) -> usize {
         self.l0.ncols() + self.steps * (self.lw.ncols() + self.factors.len())
     }
 }
