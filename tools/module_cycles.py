@@ -12,30 +12,34 @@ item a module re-exports (`pub use x::Item`) is followed to the module it comes 
 
 The script prints, with one file:line per edge,
 - every import cycle, at every depth: in each folder (src/ itself included), the graph whose nodes
-  are the folder's sub-modules (a child folder counts as one node, with everything in it), with an
-  edge whenever a file under one node uses a module under another. A cycle between two files shows
-  in the folder whose children hold them, so none is missed; nor is a cycle between folders that no
-  two single files close. The folder's own file (lib.rs, a mod.rs) is the folder's face, not one of
-  its sub-modules: as lib.rs always was for the top level, it is no node of its folder's graph (its
-  children may use the types it defines, and it may dispatch to them). `--strict` makes it a node
-  as well, to show the cycles between a mod.rs and its children (reported, not an error: with
-  `--strict` the exit status is 0 whatever they are, if nothing else is found);
+  are the folder's own file (lib.rs, a mod.rs) and its sub-modules (a child folder counts as one
+  node, with everything in it), with an edge whenever a file under one node uses a module under
+  another. A cycle between two files shows in the folder whose children hold them, so none is
+  missed; nor is a cycle between folders that no two single files close. The own file is a node
+  like the others: a mod.rs that uses its children (declares a registry of them, dispatches to
+  them) may not define what they use, which then lives in a leaf file of the folder that the
+  mod.rs re-exports (`pub use`);
 - every import of a later top-level layer than the importing one (LAYERS, as
   docs/architecture.md states it), and every top-level module in no layer;
 - every source file longer than MAX_LINES.
-Exit status 1 when any of these is found, 0 otherwise. .ci/run runs it.
+Exit status 1 when any of these is found, 0 otherwise, 2 for an option (there is none) or a
+SRC_DIR without Rust files. .ci/run runs it.
 
 Not seen: a dependency that goes only through a glob re-export (`pub use x::*` read as `y::Item`
 counts as a use of the re-exporting module), and a path through a `use` alias of a module.
 
-    python3 tools/module_cycles.py [--strict] [SRC_DIR]
+    python3 tools/module_cycles.py [SRC_DIR]
 """
 import pathlib
 import re
 import sys
 
-ARGS = [a for a in sys.argv[1:] if a != "--strict"]
-STRICT = "--strict" in sys.argv[1:]
+ARGS = sys.argv[1:]
+if len(ARGS) > 1 or any(a.startswith("-") for a in ARGS):
+    # `--strict` is gone (a folder's own file is always a node); an option read as SRC_DIR would
+    # check an empty tree and pass.
+    print("usage: python3 tools/module_cycles.py [SRC_DIR]", file=sys.stderr)
+    sys.exit(2)
 SRC = pathlib.Path(ARGS[0] if ARGS else "src")
 # The layers in order: a module may import only from modules before it (docs/architecture.md).
 LAYERS = ["error", "numerics", "model", "filter", "analysis", "families", "sim", "config", "pipeline", "report"]
@@ -242,8 +246,8 @@ def name(mod):
     return "::".join(mod) if mod else "crate"
 
 
-def folder_graphs(edges, own_file):
-    """Per folder, its edges between nodes: its children and, if `own_file`, its own file ("")."""
+def folder_graphs(edges):
+    """Per folder, its edges between nodes: its children and its own file ("")."""
     graphs = {}
     for (a, b), where in edges.items():
         k = 0
@@ -252,8 +256,6 @@ def folder_graphs(edges, own_file):
         folder = a[:k]
         na = a[k] if len(a) > k else ""  # "": the folder's own file
         nb = b[k] if len(b) > k else ""
-        if not own_file and "" in (na, nb):
-            continue
         graphs.setdefault(folder, {}).setdefault((na, nb), []).append((a, b, where))
     return graphs
 
@@ -311,10 +313,10 @@ def shortest_cycle(comp, adj):
     return [start]
 
 
-def cycles(edges, own_file=False):
+def cycles(edges):
     """Printable reports of every cycle, folder by folder; empty when there is none."""
     out = []
-    for folder, g in sorted(folder_graphs(edges, own_file).items()):
+    for folder, g in sorted(folder_graphs(edges).items()):
         adj = {}
         for a, b in g:
             adj.setdefault(a, set()).add(b)
@@ -344,16 +346,14 @@ def cycles(edges, own_file=False):
 
 
 def main():
+    if not SRC.is_dir() or not any(SRC.rglob("*.rs")):
+        print(f"{SRC}: no Rust source files", file=sys.stderr)
+        return 2
     crate = Crate()
     e = crate.edges()
     found = cycles(e)
     for c in found:
         print(c)
-    if STRICT:
-        with_own = [c for c in cycles(e, own_file=True) if c not in found]
-        for c in with_own:
-            print("(--strict) " + c)
-        print(f"(--strict) {len(with_own)} cycle(s) through a folder's own file, not counted as errors")
     # The top-level layers: every file maps to its top-level module.
     top = {}
     for (a, b), where in e.items():

@@ -1,6 +1,6 @@
 //! `[modes]`: the Markov chain of seed 001 and each mode's matrices, validated.
 
-use super::check_name;
+use super::experiment::check_name;
 use super::schema::{ModesFile, Rows};
 use crate::error::{Error, Result};
 use crate::model::plant::{Modes, Plant, Steps};

@@ -1,7 +1,7 @@
 //! The `[plant]` table: the matrices (constant or per step, seed 003 (3.1)), the mean of x0, the
 //! known input, dropouts or modes, and the multiplicative noise factors, each error naming its key.
 
-use super::check_name;
+use super::experiment::check_name;
 use super::modes::resolve_modes;
 use super::schema::*;
 use crate::error::{Error, Result};

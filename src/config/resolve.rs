@@ -3,9 +3,11 @@
 
 use std::collections::BTreeMap;
 
+use super::experiment::{
+    Experiment, FilterSpec, Input, Overrides, Scenario, check_name, check_trials, filter_index, sample_count,
+};
 use super::plant::{plant, plant_matrices};
 use super::schema::*;
-use super::{Experiment, FilterSpec, Input, Overrides, Scenario, check_name, check_trials, filter_index, sample_count};
 use crate::analysis::anisotropy::gaussian_anisotropy;
 use crate::error::{Error, Result};
 use crate::model::choice::CovChoice;
@@ -175,7 +177,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
 /// The covariance blocks, x0 first and then the noise blocks in the order `plant.noise_blocks`
 /// gives: each nominal covariance, zero for a disturbance block (it is not noise; its energy bound
 /// is in the third list, and the designs see its surrogate through
-/// [`super::Experiment::design_nominal`]). Returns the noise blocks' dimensions.
+/// [`Experiment::design_nominal`]). Returns the noise blocks' dimensions.
 #[allow(clippy::type_complexity)]
 fn covariance_blocks(
     p: &PlantFile,

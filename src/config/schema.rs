@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
-use super::Input;
+use super::experiment::Input;
 use crate::error::{Error, Result};
 use crate::model::choice::CovChoiceFile;
 use crate::model::disturbance::DisturbanceChoice;

@@ -56,11 +56,11 @@ impl Record for H2Figures {}
 /// The family's entry: `family = "h2"`.
 pub struct H2;
 
-impl super::Family for H2 {
+impl super::family::Family for H2 {
     const NAME: &'static str = "h2";
     type Params = Params;
 
-    fn supports(_: &Params) -> super::Supports {
+    fn supports(_: &Params) -> super::family::Supports {
         super::hinf_lambda::SEED_002
     }
 

@@ -147,8 +147,8 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
 
 /// Seed 002's setting: a predictor on a plant with deterministic matrices (no dropouts, modes or
 /// multiplicative noise); they may change with the step (§5).
-pub const SEED_002: super::Supports = super::Supports {
-    patterns: super::PREDICTION,
+pub const SEED_002: super::family::Supports = super::family::Supports {
+    patterns: super::family::PREDICTION,
     dropouts: false,
     markov_modes: false,
     multiplicative: false,
@@ -202,11 +202,11 @@ impl Record for HinfFigures {}
 /// The family's entry: `family = "hinf"`.
 pub struct HinfLambda;
 
-impl super::Family for HinfLambda {
+impl super::family::Family for HinfLambda {
     const NAME: &'static str = "hinf";
     type Params = Params;
 
-    fn supports(_: &Params) -> super::Supports {
+    fn supports(_: &Params) -> super::family::Supports {
         SEED_002
     }
 
@@ -218,8 +218,8 @@ impl super::Family for HinfLambda {
     }
 
     /// Its norm checks build the dense operator over the whole horizon.
-    fn footprint(_: &Params, plant: super::PlantSize) -> super::Footprint {
-        super::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
+    fn footprint(_: &Params, plant: super::family::PlantSize) -> super::family::Footprint {
+        super::family::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
     }
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {

@@ -34,25 +34,25 @@ pub struct Params {
 /// The family's entry: `family = "intermittent"`.
 pub struct Intermittent;
 
-impl super::Family for Intermittent {
+impl super::family::Family for Intermittent {
     const NAME: &'static str = "intermittent";
     type Params = Params;
 
     /// A predictor for dropouts (plant.arrival), not general Markov modes or multiplicative noise.
-    fn supports(_: &Params) -> super::Supports {
-        super::Supports {
-            patterns: super::PREDICTION,
+    fn supports(_: &Params) -> super::family::Supports {
+        super::family::Supports {
+            patterns: super::family::PREDICTION,
             markov_modes: false,
             multiplicative: false,
-            ..super::Supports::ALL
+            ..super::family::Supports::ALL
         }
     }
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let cov = super::own_design_point(input, &p.design, "this filter")?;
+        let cov = super::family::own_design_point(input, &p.design, "this filter")?;
         let (realization, predicted) = predictor(input.plant, &cov);
-        let mut design = super::exact_at_design(input.plant, realization, cov, serde_json::Map::new());
-        design.figures = Figures::of(super::Predicted { riccati_summed_error: predicted });
+        let mut design = super::family::exact_at_design(input.plant, realization, cov, serde_json::Map::new());
+        design.figures = Figures::of(super::family::Predicted { riccati_summed_error: predicted });
         Ok(design)
     }
 }

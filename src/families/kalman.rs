@@ -71,18 +71,18 @@ fn mode_averaged(plant: &Plant, name: &str) -> Result<Plant> {
 /// The family's entry: `family = "kalman"`.
 pub struct Kalman;
 
-impl super::Family for Kalman {
+impl super::family::Family for Kalman {
     const NAME: &'static str = "kalman";
     type Params = Params;
 
     /// Any plant: on one with modes, dropouts or factors it is designed on the base (or
     /// mode-averaged) matrices and promises nothing; its surrogate may vary with the step.
-    fn supports(_: &Params) -> super::Supports {
-        super::Supports { varying_weights: true, ..super::Supports::ALL }
+    fn supports(_: &Params) -> super::family::Supports {
+        super::family::Supports { varying_weights: true, ..super::family::Supports::ALL }
     }
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
-        let cov = super::own_design_point(input, &p.design, "a Kalman filter")?;
+        let cov = super::family::own_design_point(input, &p.design, "a Kalman filter")?;
         if p.plant == PlantChoice::ModeAveraged {
             let avg = mode_averaged(input.plant, input.name)?;
             let mut d = design_at(&avg, cov, input.pattern);
@@ -114,7 +114,7 @@ pub fn design_at(plant: &Plant, cov: Covariances, pattern: Pattern) -> Design {
             diagnostics.insert(key.into(), what.into());
             Design { design_covariance: Some(cov), ..Design::new(realization, diagnostics) }
         }
-        None => super::exact_at_design(plant, realization, cov, diagnostics),
+        None => super::family::exact_at_design(plant, realization, cov, diagnostics),
     }
 }
 

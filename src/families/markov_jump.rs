@@ -53,15 +53,15 @@ pub struct Params {
 /// The family's entry: `family = "markov_jump"`.
 pub struct MarkovJump;
 
-impl super::Family for MarkovJump {
+impl super::family::Family for MarkovJump {
     const NAME: &'static str = "markov_jump";
     type Params = Params;
 
     /// A predictor (seed 001 (6)) on noise-free matrices. The finite-horizon recursion (15)–(16)
     /// reads each step's matrices; the stationary gains are fixed points of constant ones.
-    fn supports(p: &Params) -> super::Supports {
-        super::Supports {
-            patterns: super::PREDICTION,
+    fn supports(p: &Params) -> super::family::Supports {
+        super::family::Supports {
+            patterns: super::family::PREDICTION,
             multiplicative: false,
             time_varying: p.gains == GainsKind::Finite,
             narrowed_by: match p.gains {
@@ -69,13 +69,13 @@ impl super::Family for MarkovJump {
                 GainsKind::Steady => Some(("gains", "steady")),
                 GainsKind::Common => Some(("gains", "common")),
             },
-            ..super::Supports::ALL
+            ..super::family::Supports::ALL
         }
     }
 
     /// One set of gains per mode and the mode-averaged one.
-    fn footprint(_: &Params, plant: super::PlantSize) -> super::Footprint {
-        super::Footprint { state: plant.nx, gain_sets: plant.modes + 1, dense_horizon: false }
+    fn footprint(_: &Params, plant: super::family::PlantSize) -> super::family::Footprint {
+        super::family::Footprint { state: plant.nx, gain_sets: plant.modes + 1, dense_horizon: false }
     }
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
@@ -83,7 +83,7 @@ impl super::Family for MarkovJump {
         let Some(modes) = input.plant.modes() else {
             return Err(Error::design(name, "the plant has no modes: add [modes] (or plant.arrival for dropouts)"));
         };
-        let cov = super::own_design_point(input, &p.design, "this filter")?;
+        let cov = super::family::own_design_point(input, &p.design, "this filter")?;
         let plant = input.plant;
         let w = cov.w();
         let mut diagnostics = serde_json::Map::new();
@@ -110,9 +110,9 @@ impl super::Family for MarkovJump {
             }
         };
         let predicted = (p.gains == GainsKind::Finite).then(|| finite(plant, &cov).1);
-        let mut design = Design { trace, ..super::exact_at_design(plant, realization, cov, diagnostics) };
+        let mut design = Design { trace, ..super::family::exact_at_design(plant, realization, cov, diagnostics) };
         if let Some(p) = predicted {
-            design.figures = Figures::of(super::Predicted { riccati_summed_error: p });
+            design.figures = Figures::of(super::family::Predicted { riccati_summed_error: p });
         }
         Ok(design)
     }

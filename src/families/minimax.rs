@@ -84,14 +84,14 @@ impl Record for MinimaxFigures {}
 /// The family's entry: `family = "minimax"`.
 pub struct Minimax;
 
-impl super::Family for Minimax {
+impl super::family::Family for Minimax {
     const NAME: &'static str = "minimax";
     type Params = Params;
 
     /// Theorem 3's saddle point rests on the Kalman filter being optimal at every K, which
     /// multiplicative noise breaks; the surrogate of a disturbance may vary with the step.
-    fn supports(_: &Params) -> super::Supports {
-        super::Supports { multiplicative: false, varying_weights: true, ..super::Supports::ALL }
+    fn supports(_: &Params) -> super::family::Supports {
+        super::family::Supports { multiplicative: false, varying_weights: true, ..super::family::Supports::ALL }
     }
 
     fn check(p: &Params) -> std::result::Result<(), (&'static str, String)> {

@@ -1,5 +1,5 @@
 //! Stage 3: each scenario evaluated: every filter's exact error (docs/math.md §4) and exact NEES, then the
-//! Monte Carlo on the same input (docs/math.md §6) from the run's one [`super::MonteCarlo`] source,
+//! Monte Carlo on the same input (docs/math.md §6) from the run's one [`MonteCarlo`] source,
 //! gathered into the scenario's [`ScenarioOutcome`].
 
 use std::time::Instant;
@@ -65,6 +65,22 @@ impl<'a> Engine<'a> {
     }
 }
 
+/// A scenario ready for its Monte Carlo: its setup and every filter's exact error (docs/math.md
+/// §4), with the coordinates each filter is simulated in.
+pub struct Prepared {
+    pub index: usize,
+    pub setup: Setup,
+    pub exact: Vec<ExactError>,
+    pub forms: Vec<Option<ErrorForm>>,
+}
+
+impl Prepared {
+    /// The scenario as the Monte Carlo engine runs it.
+    pub fn scenario<'s>(&'s self, engine: &'s Engine) -> crate::sim::montecarlo::Scenario<'s> {
+        engine.scenario(&self.setup, self.index, &self.forms)
+    }
+}
+
 /// The exact error of filter `r` in a scenario (docs/math.md §4): with the scenario's covariance and
 /// deterministic disturbance, or the first two moments of its joint input (seed 002).
 fn exact_of(p: &Plant, r: &Realization, setup: &Setup) -> Result<ExactError> {
@@ -93,7 +109,28 @@ pub fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, 
     Ok((exact, forms))
 }
 
-/// The Monte Carlo statistics of [`super::MonteCarlo`], scenario by scenario.
+/// Where a run's Monte Carlo statistics come from, chosen once by the command.
+pub enum MonteCarlo {
+    /// Every block, simulated here; a progress bar per scenario when `progress`.
+    Run { progress: bool },
+    /// Every block, from a merge's shards (`filterbench merge`): per scenario every shard's tree
+    /// nodes in block order and the per-trial J in trial order. The designs made here must have
+    /// `fingerprint`, those the shards ran.
+    Merged { fingerprint: String, partials: Vec<Partial> },
+}
+
+/// Refuses a merge whose shards ran other designs than those made here.
+fn same_designs(expected: &str, ours: &str) -> Result<()> {
+    if ours != expected {
+        return Err(Error::invalid(
+            "merge",
+            format!("the shards' designs (fingerprint {expected}) differ from this machine's ({ours})"),
+        ));
+    }
+    Ok(())
+}
+
+/// The Monte Carlo statistics of [`MonteCarlo`], scenario by scenario.
 pub(super) enum Source {
     Run(ProgressBar),
     Merged(std::vec::IntoIter<Partial>),
@@ -101,11 +138,11 @@ pub(super) enum Source {
 
 impl Source {
     /// The source `mc`; a merge's shards are refused unless they ran the designs of `ours`.
-    pub(super) fn new(exp: &Experiment, mc: super::MonteCarlo, ours: impl FnOnce() -> String) -> Result<Self> {
+    pub(super) fn new(exp: &Experiment, mc: MonteCarlo, ours: impl FnOnce() -> String) -> Result<Self> {
         Ok(match mc {
-            super::MonteCarlo::Run { progress } => Source::Run(progress_bar(exp.trials as u64, progress)),
-            super::MonteCarlo::Merged { fingerprint, partials } => {
-                super::same_designs(&fingerprint, &ours())?;
+            MonteCarlo::Run { progress } => Source::Run(progress_bar(exp.trials as u64, progress)),
+            MonteCarlo::Merged { fingerprint, partials } => {
+                same_designs(&fingerprint, &ours())?;
                 Source::Merged(partials.into_iter())
             }
         })
@@ -141,7 +178,7 @@ impl Source {
 /// Scenario `p` evaluated: its Monte Carlo statistics from `source` on the input its exact errors
 /// were computed for, sample trajectories with the noise-free output they scatter around, the exact
 /// NEES (seed 001 §3) and the input's power and anisotropy.
-pub(super) fn outcome(engine: &Engine, p: super::Prepared, source: &mut Source) -> Result<ScenarioOutcome> {
+pub(super) fn outcome(engine: &Engine, p: Prepared, source: &mut Source) -> Result<ScenarioOutcome> {
     let exp = engine.exp;
     let s = &exp.scenarios[p.index];
     let sc = p.scenario(engine);
@@ -150,7 +187,7 @@ pub(super) fn outcome(engine: &Engine, p: super::Prepared, source: &mut Source) 
     let mc = montecarlo::reduce(&sc, part.nodes);
     let mc_seconds = t.elapsed().as_secs_f64();
     let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
-    let super::Prepared { setup, exact, .. } = p;
+    let Prepared { setup, exact, .. } = p;
     // NEES from the same exact recursions, each projected output checked like the error itself.
     let nees_exact = engine
         .filters

@@ -16,27 +16,14 @@ pub mod shards;
 use std::time::Instant;
 
 pub use design::{AnisotropicFigures, Claimed, DesignedFilter, design_all, worst_case};
-pub use evaluate::three_figures;
+pub use evaluate::{MonteCarlo, Prepared, three_figures};
 pub use outcome::{FilterOutcome, Gain, NeesAverage, Promise, RunOutcome, ScenarioOutcome};
 pub use scenarios::{guarantee_holds, scenario_covariances};
 
-use crate::analysis::exact::{ErrorForm, ExactError};
 use crate::config::Experiment;
-use crate::error::{Error, Result};
-use crate::sim::montecarlo::Partial;
+use crate::error::Result;
 
 use evaluate::Engine;
-use scenarios::Setup;
-
-/// Where a run's Monte Carlo statistics come from, chosen once by the command.
-pub enum MonteCarlo {
-    /// Every block, simulated here; a progress bar per scenario when `progress`.
-    Run { progress: bool },
-    /// Every block, from a merge's shards (`filterbench merge`): per scenario every shard's tree
-    /// nodes in block order and the per-trial J in trial order. The designs made here must have
-    /// `fingerprint`, those the shards ran.
-    Merged { fingerprint: String, partials: Vec<Partial> },
-}
 
 /// Runs the whole experiment on the current rayon pool.
 pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
@@ -68,22 +55,6 @@ pub fn execute(exp: &Experiment, mc: MonteCarlo) -> Result<RunOutcome> {
     })
 }
 
-/// A scenario ready for its Monte Carlo: its setup and every filter's exact error (docs/math.md
-/// §4), with the coordinates each filter is simulated in.
-pub struct Prepared {
-    pub index: usize,
-    pub setup: Setup,
-    pub exact: Vec<ExactError>,
-    pub forms: Vec<Option<ErrorForm>>,
-}
-
-impl Prepared {
-    /// The scenario as the Monte Carlo engine runs it.
-    pub fn scenario<'s>(&'s self, engine: &'s Engine) -> crate::sim::montecarlo::Scenario<'s> {
-        engine.scenario(&self.setup, self.index, &self.forms)
-    }
-}
-
 /// The stages between the designs and the Monte Carlo, for every command: each scenario's
 /// covariance resolved (all first: a worst case is refused before any trial runs), then one
 /// scenario at a time its setup and exact errors (a filter whose error double precision cannot
@@ -113,15 +84,4 @@ pub fn fingerprint(filters: &[DesignedFilter]) -> String {
         f.design.realization.digest(&mut h);
     }
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
-}
-
-/// Refuses a merge whose shards ran other designs than those made here.
-fn same_designs(expected: &str, ours: &str) -> Result<()> {
-    if ours != expected {
-        return Err(Error::invalid(
-            "merge",
-            format!("the shards' designs (fingerprint {expected}) differ from this machine's ({ours})"),
-        ));
-    }
-    Ok(())
 }

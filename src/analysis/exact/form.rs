@@ -1,9 +1,14 @@
 //! The error coordinates ε = s − M x of a realization that tracks M x (docs/math.md §0): where they keep
 //! ε independent of x, the exact analysis and the Monte Carlo carry ε instead of s.
 
-use super::*;
+use super::augmented::Augmented;
+use super::exact_error::{Coordinates, ExactError};
+use super::propagate::{Input, propagate, start, white};
+use crate::filter::realization::Realization;
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::linalg::{Mat, Vector};
 
-/// [`error`] computed in error coordinates whatever the plant-coordinate recursion would give, or
+/// [`error`](super::error) computed in error coordinates whatever the plant-coordinate recursion would give, or
 /// why they do not apply (for comparing the two where both are accurate).
 pub fn error_in_error_coordinates(
     plant: &Plant,

@@ -1,7 +1,11 @@
 //! The forward recursions of the module docs: per-mode raw moments, the mean-plus-Lyapunov
 //! recursion, the modal (block-diagonal) fast path, and how many digits each result keeps.
 
-use super::*;
+use super::augmented::Augmented;
+use super::exact_error::{Coordinates, ExactError, Resolution};
+use crate::filter::realization::Realization;
+use crate::model::plant::{Covariances, Plant};
+use crate::numerics::linalg::{Mat, Vector, symmetrize};
 use nalgebra::Matrix2;
 
 use crate::numerics::linalg::weighted_sum;
@@ -12,6 +16,19 @@ use crate::numerics::linalg::weighted_sum;
 pub(super) enum Input<'a> {
     White { w: &'a [Mat], mean: Option<&'a Mat> },
     Joint { mean: &'a Vector, raw: &'a Mat },
+}
+
+/// W\[k] for [`Input::White`]: one matrix, or one per step when some block varies.
+pub(super) fn white(plant: &Plant, cov: &Covariances) -> Vec<Mat> {
+    if cov.varies() { (0..plant.steps()).map(|k| cov.w_at(k)).collect() } else { vec![cov.w()] }
+}
+
+/// Which step's noise w\[k] sits where in a joint input J = col(x0 − E x0, w\[0..N−1]) (w\[N] = 0) or
+/// col(x0 − E x0, w\[0..N]): the offset of w\[k] in J, None when w\[k] = 0.
+pub fn joint_offset(plant: &Plant, dim: usize, k: usize) -> Option<usize> {
+    let (n, nw) = (plant.nx(), plant.nw());
+    let with_last = dim == n + plant.steps() * nw;
+    (k < plant.horizon || (k == plant.horizon && with_last)).then_some(n + k * nw)
 }
 
 /// The moments at k = 0 before the modes are mixed in: mean m, raw second moment Y and, for a joint

@@ -1,8 +1,15 @@
 //! The error as a function of the covariances: its gradient by the adjoint recursion (seed 000 eq
 //! (27)), the second-moment operator, and the worst case over an uncertainty set (docs/math.md §2).
 
-use super::*;
+use super::augmented::{Augmented, modal};
+use super::form::error_form;
+use super::moments::error;
+use crate::error::{Error, Result};
+use crate::filter::realization::Realization;
+use crate::model::plant::{Covariances, Plant};
+use crate::model::uncertainty::CovSet;
 use crate::numerics::linalg::weighted_sum;
+use crate::numerics::linalg::{Mat, symmetrize};
 
 /// Λ = E\[𝓕ᵀ𝓕] of the operator 𝓕 from J = col(x0 − E x0, w\[0..N]) to col(e\[k], k counted), the
 /// known input and x0's mean set aside (seed 003 §2, docs/math.md §5: "Λ for multiplicative noise is exact

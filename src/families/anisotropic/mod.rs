@@ -44,7 +44,7 @@ use crate::numerics::solve::conic::{Failure, Tuning};
 pub mod structure;
 
 pub use crate::analysis::theorem1::Level;
-pub use structure::{Structure, Synthesis, realization};
+pub use structure::{P2_FLOOR, Structure, Synthesis, realization};
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
@@ -82,18 +82,18 @@ fn default_structure() -> Structure {
 /// The family's entry: `family = "anisotropic"`.
 pub struct Anisotropic;
 
-impl super::Family for Anisotropic {
+impl super::family::Family for Anisotropic {
     const NAME: &'static str = "anisotropic";
     type Params = Params;
 
     /// Seed 003's noise is independent over time: dropouts and multiplicative factors, not Markov
     /// modes. A structure that uses y(k) through G needs the filtering pattern.
-    fn supports(p: &Params) -> super::Supports {
-        super::Supports {
-            patterns: if p.structure.filtering() { super::FILTERING } else { super::ANY_PATTERN },
+    fn supports(p: &Params) -> super::family::Supports {
+        super::family::Supports {
+            patterns: if p.structure.filtering() { super::family::FILTERING } else { super::family::ANY_PATTERN },
             markov_modes: false,
             narrowed_by: p.structure.filtering().then(|| ("structure", p.structure.name())),
-            ..super::Supports::ALL
+            ..super::family::Supports::ALL
         }
     }
 
@@ -102,8 +102,8 @@ impl super::Family for Anisotropic {
     }
 
     /// Λ, the design's and the checks' operator over the whole horizon, is dense.
-    fn footprint(_: &Params, plant: super::PlantSize) -> super::Footprint {
-        super::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
+    fn footprint(_: &Params, plant: super::family::PlantSize) -> super::family::Footprint {
+        super::family::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
     }
 
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
@@ -282,9 +282,6 @@ pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> 
     }
     Err(last)
 }
-
-/// P2(k) ⪰ P2_FLOOR · λmax(CzᵀCz) I where the LMIs do not force P2 ≻ 0 (see [`structure`]).
-pub const P2_FLOOR: f64 = 1e-6;
 
 /// [`structure::synthesize_tuned`] in balanced state coordinates x̃ = T x, T = diag(t_i) with
 /// t_i = 1/√σ_i, σ_i the time-averaged open-loop variance of x_i under unit white noise

@@ -264,6 +264,9 @@ pub fn synthesize_tuned(
     })
 }
 
+/// P2(k) ⪰ P2_FLOOR · λmax(CzᵀCz) I where the LMIs do not force P2 ≻ 0 (see `floor`).
+pub const P2_FLOOR: f64 = 1e-6;
+
 /// P2(k) ⪰ P2_FLOOR · λmax(CzᵀCz) I keeps W = P2⁻¹Q recoverable where the LMIs do not force
 /// P2 ≻ 0: in `predictor` they give P2(k) ⪰ CzᵀCz (the output row [0, Cz]), so the floor is needed
 /// only for a column-rank-deficient Cz; in `gamma_*` the output row carries the free Y, so always.
@@ -278,7 +281,7 @@ fn floor(plant: &Plant, structure: Structure, k: usize) -> Option<f64> {
     };
     needed.then(|| {
         let czz = cz.transpose() * cz;
-        super::P2_FLOOR * czz.symmetric_eigenvalues().max().max(f64::MIN_POSITIVE)
+        P2_FLOOR * czz.symmetric_eigenvalues().max().max(f64::MIN_POSITIVE)
     })
 }
 

@@ -15,7 +15,7 @@
 //! The record is one draw of the truth (Gaussian, the nominal covariances) from its own random
 //! stream, independent of every Monte Carlo trial ([`super::super::RunView::pilot_record`]).
 
-use super::{Basis, ill_conditioned, projected, realization};
+use super::projection::{Basis, ill_conditioned, projected, realization};
 use crate::error::{Error, Result};
 use crate::model::plant::{Covariances, Plant};
 use crate::model::string::StringModel;

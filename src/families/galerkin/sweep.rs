@@ -5,9 +5,9 @@
 //! the sweep's best α.
 
 use super::alpha::{AlphaChoice, Pilot, choose_alpha};
-use super::{Basis, GalerkinPoint};
+use super::projection::{Basis, GalerkinPoint};
 use crate::error::Result;
-use crate::families::{Family, Finding, RunView};
+use crate::families::family::{Family, RunView};
 use crate::filter::design::Record;
 
 /// Fewer α than this on a (basis, n) and the rule has no grid to choose on.
@@ -48,7 +48,7 @@ pub struct AlphaRule {
 }
 
 /// The run's [`Sweep`], over the Galerkin filters `mine`; None without a string or filters.
-pub fn analyze(run: &RunView, mine: &[usize]) -> Result<Option<Finding>> {
+pub fn analyze(run: &RunView, mine: &[usize]) -> Result<Option<Sweep>> {
     let Some(model) = run.string else { return Ok(None) };
     let points: Vec<(usize, &GalerkinPoint)> =
         mine.iter().filter_map(|&f| Some((f, run.filters[f].2.figures.get::<GalerkinPoint>()?))).collect();
@@ -105,5 +105,5 @@ pub fn analyze(run: &RunView, mine: &[usize]) -> Result<Option<Finding>> {
             alpha_rule.push(AlphaRule { basis: basis.to_string(), n, choice, refused, best });
         }
     }
-    Ok(Some(Finding { family: super::Galerkin::NAME, record: std::sync::Arc::new(Sweep { optimum, alpha_rule }) }))
+    Ok(Some(Sweep { optimum, alpha_rule }))
 }

@@ -1,6 +1,7 @@
 //! Seed 004's views: the exact error over (basis, n, α) and the string's profile along ξ.
 
-use super::{RecResult, Run, style};
+use super::run::{RecResult, Run};
+use super::style;
 use crate::families::galerkin::GalerkinPoint;
 use crate::families::galerkin::sweep::Sweep;
 

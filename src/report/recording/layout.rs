@@ -14,7 +14,8 @@
 use rerun::external::re_sdk_types::blueprint::components::{ContainerKind, Corner2D};
 
 use super::blueprint::{Layout, Node, ViewKind};
-use super::{APP, Run, galerkin, shown};
+use super::galerkin;
+use super::run::{APP, Run, line_search_leaf, shown};
 use crate::pipeline::ScenarioOutcome;
 
 type BpResult<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Sync>>;
@@ -196,7 +197,7 @@ fn design(l: &mut Layout, run: &Run) -> BpResult<Node> {
             gap.push(plus(&run.at(&["design", &spec.name, "gap"])));
         }
         for ls in &d.design.line_searches {
-            let leaf = super::line_search_leaf(ls.iteration);
+            let leaf = line_search_leaf(ls.iteration);
             let entry = searches.entry(ls.iteration).or_default();
             entry.0.push(plus(&run.at(&["design", &spec.name, &leaf])));
             entry.1.push(format!("{} {:.4}", spec.name, ls.value[0]));

@@ -28,6 +28,7 @@
 mod blueprint;
 mod galerkin;
 mod layout;
+mod run;
 pub mod style;
 mod tables;
 
@@ -36,35 +37,8 @@ use std::path::Path;
 use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::pipeline::{RunOutcome, ScenarioOutcome};
-
-type RecResult = std::result::Result<(), Box<dyn std::error::Error + Send + Sync>>;
-
-/// The application id the recording and its blueprint share (the viewer pairs them by it).
-const APP: &str = "filterbench";
-
-/// Filters shown by default in a scenario's per-step views; the rest are in the recording, one
-/// click away in the viewer's tree.
-pub const MAX_SHOWN: usize = 8;
-
-/// An entity path from user-given and fixed parts, each escaped as one part.
-pub fn path(parts: &[&str]) -> String {
-    parts.iter().map(|s| rerun::EntityPathPart::new(*s).escaped_string()).collect::<Vec<_>>().join("/")
-}
-
-/// One run's place in the recording: its variant (if the file has variants) in front of every path.
-struct Run<'a> {
-    exp: &'a Experiment,
-    out: &'a RunOutcome,
-}
-
-impl Run<'_> {
-    fn at(&self, rest: &[&str]) -> String {
-        match self.exp.variant.as_deref() {
-            Some(v) => path(&[&[v], rest].concat()),
-            None => path(rest),
-        }
-    }
-}
+use run::{APP, RecResult, Run, line_search_leaf};
+pub use run::{MAX_SHOWN, path, shown};
 
 /// Writes one recording holding every run (one per variant), with its default layout.
 pub fn write(runs: &[(&Experiment, &RunOutcome)], path: &Path) -> Result<()> {
@@ -288,21 +262,4 @@ fn design_traces(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
         }
     }
     Ok(())
-}
-
-/// The entity leaf of line search `s` under `design/<filter>/`.
-fn line_search_leaf(s: usize) -> String {
-    format!("line_search_{s}")
-}
-
-/// The filters a scenario's per-step views show: all of them up to [`MAX_SHOWN`], else the
-/// [`MAX_SHOWN`] with the smallest exact summed error, in the file's order.
-pub fn shown(exp: &Experiment, sc: &ScenarioOutcome) -> Vec<usize> {
-    let mut idx: Vec<usize> = (0..exp.filters.len()).collect();
-    if idx.len() > MAX_SHOWN {
-        idx.sort_by(|a, b| sc.exact[*a].total.total_cmp(&sc.exact[*b].total));
-        idx.truncate(MAX_SHOWN);
-        idx.sort_unstable();
-    }
-    idx
 }
