@@ -33,7 +33,7 @@ impl Error {
         Error::Design { filter: filter.into(), cause: cause.into() }
     }
     /// `{key}.filter` names no filter of the experiment.
-    pub fn no_filter(key: &str, name: &str) -> Self {
+    pub(crate) fn no_filter(key: &str, name: &str) -> Self {
         Error::invalid(format!("{key}.filter"), format!("no filter named `{name}` in this experiment"))
     }
     pub fn io(path: impl Into<PathBuf>, cause: impl std::fmt::Display) -> Self {

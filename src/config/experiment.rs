@@ -105,7 +105,7 @@ pub struct Experiment {
     pub anisotropy: Option<f64>,
     pub plant: Plant,
     /// The nominal covariances noise is drawn with: a deterministic disturbance block has none
-    /// (zero); the designs see its surrogate instead ([`Experiment::design_nominal`]).
+    /// (zero); the designs see its surrogate instead (`Experiment::design_nominal`).
     pub nominal: Covariances,
     /// The uncertainty set of each covariance block (index as in `Covariances::blocks`), if any.
     pub sets: Vec<Option<CovSet>>,
@@ -120,12 +120,9 @@ pub struct Experiment {
 }
 
 impl Experiment {
-    pub fn has_sets(&self) -> bool {
-        self.sets.iter().any(Option::is_some)
-    }
     /// The covariances noise is drawn with when a scenario names `cov`: deterministic disturbance
     /// blocks have none (a filter's design covariance carries their surrogate there).
-    pub fn sampling(&self, cov: &Covariances) -> Covariances {
+    pub(crate) fn sampling(&self, cov: &Covariances) -> Covariances {
         let mut out = cov.clone();
         for (b, d) in out.blocks.iter_mut().zip(&self.disturbances) {
             if d.is_some() {
@@ -137,7 +134,7 @@ impl Experiment {
     }
     /// The nominal covariances the designs use: each disturbance block replaced by the white-noise
     /// surrogate s · W_k⁻¹ of seed 000 eqs (38)–(39), step by step when its weights vary.
-    pub fn design_nominal(&self) -> Covariances {
+    pub(crate) fn design_nominal(&self) -> Covariances {
         let mut out = self.nominal.clone();
         for (i, (b, d)) in out.blocks.iter_mut().zip(&self.disturbances).enumerate() {
             if let Some(d) = d {
@@ -154,7 +151,7 @@ impl Experiment {
     }
 
     /// What filter `i`'s family designs from.
-    pub fn design_input(&self, i: usize) -> crate::filter::design::DesignInput<'_> {
+    pub(crate) fn design_input(&self, i: usize) -> crate::filter::design::DesignInput<'_> {
         crate::filter::design::DesignInput {
             name: &self.filters[i].name,
             plant: &self.plant,

@@ -40,7 +40,7 @@ pub fn load_variants(path: &Path, overrides: &Overrides) -> Result<Vec<Experimen
 }
 
 /// [`load_variants`] of experiment text: `name` is the experiment's name, `file` only for messages.
-pub fn variants_of(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Vec<Experiment>> {
+pub(crate) fn variants_of(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Vec<Experiment>> {
     let base = parse_with(name, file, text, overrides)?;
     let file = file.to_string();
     let mut doc: toml::Table =
@@ -99,7 +99,7 @@ pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
 }
 
 /// [`parse`] with the command line's `overrides`.
-pub fn parse_with(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Experiment> {
+pub(crate) fn parse_with(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Experiment> {
     check_name("experiment name", name)?;
     let raw: ExperimentFile = deserialize(file, text)?;
     resolve_file(name, raw, text, overrides)

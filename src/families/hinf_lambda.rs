@@ -147,7 +147,7 @@ pub fn predictor(plant: &Plant, gains: &[Mat]) -> Realization {
 
 /// Seed 002's setting: a predictor on a plant with deterministic matrices (no dropouts, modes or
 /// multiplicative noise); they may change with the step (§5).
-pub const SEED_002: super::family::Supports = super::family::Supports {
+pub(crate) const SEED_002: super::family::Supports = super::family::Supports {
     patterns: super::family::PREDICTION,
     dropouts: false,
     markov_modes: false,
@@ -159,7 +159,7 @@ pub const SEED_002: super::family::Supports = super::family::Supports {
 };
 
 /// Checks that the weights fit seed 002's setting (the plant's features are [`SEED_002`]); returns S.
-pub fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
+pub(crate) fn check_setting(input: &DesignInput, key: &str, terminal: &Option<Vec<Vec<f64>>>) -> Result<Mat> {
     let p = input.plant;
     let n = p.nx();
     if (0..p.steps()).any(|k| p.dz_at(k).amax() != 0.0) {
@@ -200,7 +200,7 @@ pub struct HinfFigures {
 impl Record for HinfFigures {}
 
 /// The family's entry: `family = "hinf"`.
-pub struct HinfLambda;
+pub(crate) struct HinfLambda;
 
 impl super::family::Family for HinfLambda {
     const NAME: &'static str = "hinf";

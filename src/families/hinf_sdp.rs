@@ -36,13 +36,13 @@ pub enum Choice {
     /// that plays for the future where the central one accounts for the past; it needs S ≻ 0
     /// (with S = 0, X\[N] = 0 and the last gain is not determined). Pushing the storage down makes
     /// every dissipation inequality tight, so its norm² is λ itself, not below it: it is designed
-    /// at λ (1 − [`STRICT`]) so that the solver's residuals cannot carry it over λ.
+    /// at λ (1 − `STRICT`) so that the solver's residuals cannot carry it over λ.
     MinStorage,
 }
 
 /// The relative amount by which the min-storage filter's λ is tightened: 10× clarabel's loosest
 /// tolerance (1e-8, the robust retry); its norm² lands at λ − O(1e-10) otherwise.
-pub const STRICT: f64 = 1e-7;
+pub(crate) const STRICT: f64 = 1e-7;
 
 /// A solved design SDP.
 #[derive(Clone, Debug)]

@@ -32,7 +32,7 @@ pub struct Params {
 }
 
 /// The family's entry: `family = "intermittent"`.
-pub struct Intermittent;
+pub(crate) struct Intermittent;
 
 impl super::family::Family for Intermittent {
     const NAME: &'static str = "intermittent";

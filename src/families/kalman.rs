@@ -132,7 +132,7 @@ pub fn kalman(plant: &Plant, cov: &Covariances, pattern: Pattern) -> Realization
 /// As [`kalman`] for a model whose innovation covariance S is positive definite at every step by
 /// construction (seed 004's regularized S_α): S⁻¹ by a Cholesky solve that drops no direction
 /// (`riccati::innovation_pd`), or the first step k whose solve would not be accurate, with why.
-pub fn kalman_pd(
+pub(crate) fn kalman_pd(
     plant: &Plant,
     cov: &Covariances,
     pattern: Pattern,

@@ -31,7 +31,7 @@ use crate::model::choice::CovChoiceFile;
 
 #[derive(Deserialize, Default, Clone, Copy, PartialEq, Debug)]
 #[serde(rename_all = "snake_case")]
-pub enum GainsKind {
+pub(crate) enum GainsKind {
     /// K_s(n) from the coupled recursion on the horizon.
     #[default]
     Finite,
@@ -51,7 +51,7 @@ pub struct Params {
 }
 
 /// The family's entry: `family = "markov_jump"`.
-pub struct MarkovJump;
+pub(crate) struct MarkovJump;
 
 impl super::family::Family for MarkovJump {
     const NAME: &'static str = "markov_jump";

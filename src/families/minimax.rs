@@ -58,7 +58,7 @@ pub struct DualSolution {
     /// I(K̂).
     pub value: f64,
     pub trace: Vec<TraceRow>,
-    /// The first [`LINE_SEARCHES_KEPT`] line searches, sampled (seed 000 Fig. 1).
+    /// The first `LINE_SEARCHES_KEPT` line searches, sampled (seed 000 Fig. 1).
     pub line_searches: Vec<LineSearch>,
     /// The last gap δ (0 when Theorem 1.2a applied).
     pub gap: f64,
@@ -82,7 +82,7 @@ pub struct MinimaxFigures {
 impl Record for MinimaxFigures {}
 
 /// The family's entry: `family = "minimax"`.
-pub struct Minimax;
+pub(crate) struct Minimax;
 
 impl super::family::Family for Minimax {
     const NAME: &'static str = "minimax";
@@ -281,7 +281,7 @@ pub fn dual_solve(
 }
 
 /// How many line searches a design keeps sampled (seed 000's Fig. 1 is the second, s = 1).
-pub const LINE_SEARCHES_KEPT: usize = 3;
+pub(crate) const LINE_SEARCHES_KEPT: usize = 3;
 /// Samples of τ on [0, 1] per kept line search (besides the step taken).
 const LINE_SEARCH_SAMPLES: usize = 41;
 

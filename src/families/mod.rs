@@ -76,7 +76,7 @@ pub fn register<F: Family>() {
     }
 }
 
-/// Every family an experiment file may name: the built-in ones ([`FAMILIES`]) and the registered.
+/// Every family an experiment file may name: the built-in ones (`FAMILIES`) and the registered.
 pub fn known() -> Vec<Entry> {
     let r = REGISTERED.read().unwrap_or_else(|e| e.into_inner());
     FAMILIES.iter().copied().chain(r.iter().copied()).collect()
@@ -87,7 +87,7 @@ macro_rules! families {
     ($($module:ident :: $family:ident),* $(,)?) => {
         $(pub mod $module;)*
         /// Every family an experiment file may name.
-        pub const FAMILIES: &[Entry] = &[$(entry::<$module::$family>()),*];
+        pub(crate) const FAMILIES: &[Entry] = &[$(entry::<$module::$family>()),*];
     };
 }
 
@@ -106,7 +106,7 @@ families! {
 }
 
 /// Reads a filter's family and parameters: the unknown family or the bad parameter is named.
-pub fn configure(filter: &str, family: &str, params: &toml::Table) -> Result<Arc<dyn Configured>> {
+pub(crate) fn configure(filter: &str, family: &str, params: &toml::Table) -> Result<Arc<dyn Configured>> {
     let all = known();
     let e = all.iter().find(|e| e.name == family).ok_or_else(|| {
         let names = all.iter().map(|e| e.name).collect::<Vec<_>>().join(", ");

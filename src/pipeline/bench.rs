@@ -1,7 +1,7 @@
 //! `filterbench bench`: throughput of the Monte Carlo engine on every scenario of an experiment,
 //! and where one thread's time goes (drawing, simulation, statistics). Measured, not asserted. Each
 //! scenario is designed, set up and simulated exactly as `experiment` runs it, through the same
-//! stages ([`super::design_all`], [`super::each_scenario`]); only the timed loops are its own.
+//! stages ([`super::design_all`], `super::each_scenario`); only the timed loops are its own.
 
 use std::fmt::Write;
 use std::time::Instant;

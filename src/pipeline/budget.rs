@@ -77,7 +77,7 @@ pub fn available() -> Option<u64> {
 }
 
 /// Bytes in a short human form (1.2 GB).
-pub fn human(bytes: u64) -> String {
+pub(crate) fn human(bytes: u64) -> String {
     let b = bytes as f64;
     match b {
         _ if b >= 1e12 => format!("{:.1} TB", b / 1e12),

@@ -44,7 +44,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Scenario `index` as the engine runs it: drawn from `setup`, each filter simulated in the
-    /// coordinates its exact error was resolved in (`forms`, from [`exact_errors`]).
+    /// coordinates its exact error was resolved in (`forms`, from `exact_errors`).
     pub fn scenario<'s>(
         &'s self,
         setup: &'s Setup,
@@ -93,7 +93,7 @@ fn exact_of(p: &Plant, r: &Realization, setup: &Setup) -> Result<ExactError> {
 /// Every filter's exact error in a scenario, each refused if double precision cannot resolve it,
 /// and the error form of those resolved only in error coordinates, which the Monte Carlo then
 /// simulates in them too.
-pub fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, Vec<Option<ErrorForm>>)> {
+pub(crate) fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, Vec<Option<ErrorForm>>)> {
     let exp = engine.exp;
     let exact = engine
         .reals
@@ -262,7 +262,7 @@ fn check_given(sc: &montecarlo::Scenario, p: Partial) -> Result<Partial> {
 }
 
 /// One bar per scenario, counting the trials the user asked for (not trials × scenarios).
-pub fn progress_bar(trials: u64, show: bool) -> ProgressBar {
+pub(crate) fn progress_bar(trials: u64, show: bool) -> ProgressBar {
     let bar = if show {
         ProgressBar::new(trials)
     } else {

@@ -32,7 +32,11 @@ pub fn pilot_record(exp: &Experiment) -> Mat {
 }
 
 /// Every family's finding on the run, in the order the families first appear in the file.
-pub fn after_run(exp: &Experiment, filters: &[DesignedFilter], scenarios: &[ScenarioOutcome]) -> Result<Vec<Finding>> {
+pub(crate) fn after_run(
+    exp: &Experiment,
+    filters: &[DesignedFilter],
+    scenarios: &[ScenarioOutcome],
+) -> Result<Vec<Finding>> {
     let pilot = || pilot_record(exp);
     let view = RunView {
         plant: &exp.plant,

@@ -1,8 +1,8 @@
-//! Layer 8: one experiment end to end, in stages written once ([`execute`]): design every filter
+//! Layer 8: one experiment end to end, in stages written once (`execute`): design every filter
 //! ([`design`]), resolve every scenario's covariance and make it concrete ([`scenarios`]), its
 //! exact errors, its Monte Carlo from the one source the command chose ([`MonteCarlo`]), and one
 //! typed [`RunOutcome`] ([`outcome`]) for every report. Shard runs ([`shards`]) and `bench`
-//! ([`mod@bench`]) go through the same stages ([`each_scenario`]).
+//! ([`mod@bench`]) go through the same stages (`each_scenario`).
 
 pub mod bench;
 pub mod budget;
@@ -33,7 +33,7 @@ pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
 /// The pipeline: the designs, then scenario by scenario its setup, exact errors, Monte Carlo
 /// statistics from `mc` and outcome. A merge computes everything but the Monte Carlo as a run does,
 /// so its tables are those of one run.
-pub fn execute(exp: &Experiment, mc: MonteCarlo) -> Result<RunOutcome> {
+pub(crate) fn execute(exp: &Experiment, mc: MonteCarlo) -> Result<RunOutcome> {
     let start = Instant::now();
     let filters = design_all(exp)?;
     let design_seconds = start.elapsed().as_secs_f64();
@@ -60,7 +60,7 @@ pub fn execute(exp: &Experiment, mc: MonteCarlo) -> Result<RunOutcome> {
 /// scenario at a time its setup and exact errors (a filter whose error double precision cannot
 /// resolve is refused before its Monte Carlo), handed to `each` with the engine. One scenario's
 /// setup is alive at a time.
-pub fn each_scenario<T>(
+pub(crate) fn each_scenario<T>(
     exp: &Experiment,
     filters: &[DesignedFilter],
     mut each: impl FnMut(&Engine, Prepared) -> Result<T>,

@@ -1,6 +1,6 @@
 //! Stage 2: each scenario's setup: the covariance it names (docs/math.md §7), its deterministic disturbance
 //! (seed 000 §5), its joint input (seed 002, seed 003), which promises hold in it, and the noise
-//! sampler built from all of these. Every command draws through [`setup`] ([`super::each_scenario`]).
+//! sampler built from all of these. Every command draws through [`setup`] (`super::each_scenario`).
 
 use crate::config::{Experiment, InputChoice};
 use crate::error::{Error, Result};
@@ -17,7 +17,7 @@ use super::design::DesignedFilter;
 pub struct Setup {
     /// Per filter: whether its guarantee is a promise in this scenario ([`guarantee_holds`]).
     pub holds: Vec<bool>,
-    /// The covariances noise is drawn with (disturbance blocks zero: [`Experiment::sampling`]).
+    /// The covariances noise is drawn with (disturbance blocks zero: `Experiment::sampling`).
     pub covariances: Covariances,
     pub covariance_label: String,
     pub disturbance_label: String,

@@ -19,7 +19,7 @@ pub struct CommandLine {
 }
 
 /// Versions of the libraries as pinned in this crate's Cargo.toml.
-pub fn library_versions() -> serde_json::Map<String, serde_json::Value> {
+pub(crate) fn library_versions() -> serde_json::Map<String, serde_json::Value> {
     let manifest: toml::Table = toml::from_str(include_str!("../../Cargo.toml")).unwrap_or_default();
     let mut out = serde_json::Map::new();
     if let Some(deps) = manifest.get("dependencies").and_then(|d| d.as_table()) {

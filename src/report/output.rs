@@ -16,16 +16,16 @@ use crate::error::{Error, Result};
 use crate::pipeline::shards::partial;
 
 /// The file name of the manifest; its `filterbench_version` field marks a folder as a result.
-pub const MANIFEST: &str = "manifest.json";
+pub(crate) const MANIFEST: &str = "manifest.json";
 /// The marker file of a temporary folder, written first, so a stale one is recognised as ours.
 const STAGING_MARKER: &str = ".filterbench-staging";
 /// The longest output name in bytes: `.NAME.tmp-PID` (PID up to 10 digits) must fit the 255-byte
 /// limit on a file name of every common file system.
-pub const MAX_NAME_BYTES: usize = 255 - ".".len() - ".tmp-".len() - 10;
+pub(crate) const MAX_NAME_BYTES: usize = 255 - ".".len() - ".tmp-".len() - 10;
 
 /// The files a result folder holds: the tables, the manifest and the recording; or a shard's
 /// partial result ([`partial`]).
-pub fn result_files() -> Vec<&'static str> {
+pub(crate) fn result_files() -> Vec<&'static str> {
     let mut v: Vec<&str> = super::parquet::TABLES.iter().map(|(f, _)| *f).collect();
     v.extend([MANIFEST, "recording.rrd", partial::META, partial::NODES]);
     v
@@ -140,7 +140,7 @@ fn is_result_manifest(path: &Path) -> bool {
 
 /// Checks that `target` may receive a result, before anything is created or any work is done.
 /// Returns the target's parent folder (possibly not existing yet) and its name.
-pub fn check_target(target: &Path) -> Result<(PathBuf, String)> {
+pub(crate) fn check_target(target: &Path) -> Result<(PathBuf, String)> {
     let key = |p: &Path| format!("--out {}", p.display().to_string().escape_debug());
     let shown = key(target);
     crate::config::check_name("--out", &target.to_string_lossy())?;
@@ -214,7 +214,7 @@ pub struct OutputPlace {
 }
 
 impl OutputPlace {
-    /// Checks the target ([`check_target`]), takes the lock `.NAME.lock` beside it (a second run into
+    /// Checks the target (`check_target`), takes the lock `.NAME.lock` beside it (a second run into
     /// the same place is refused at once, naming the holder), clears what dead runs left there and
     /// creates the temporary folder, all before any work.
     pub fn claim(target: &Path, what: &str) -> Result<Self> {

@@ -15,7 +15,7 @@ use crate::sim::montecarlo::McStats;
 type Part = fn(&Experiment, &RunOutcome, &mut Batches) -> Result<()>;
 
 /// The tables, by file name.
-pub const TABLES: &[(&str, Part)] = &[
+pub(crate) const TABLES: &[(&str, Part)] = &[
     ("summary.parquet", |e, o, b| b.put(summary(e, o)?)),
     ("steps.parquet", |e, o, b| b.put(steps(e, o)?)),
     ("gains.parquet", gains),
@@ -29,7 +29,7 @@ const ROW_GROUP: usize = 512 * 512;
 
 /// A table being written batch by batch: each batch gets its run's `variant` column (null when the
 /// file has no variants) after `experiment` and is appended in order.
-pub struct Batches {
+pub(crate) struct Batches {
     path: std::path::PathBuf,
     file: Option<std::fs::File>,
     writer: Option<BatchedWriter<std::fs::File>>,

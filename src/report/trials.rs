@@ -36,7 +36,7 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
 
 /// The p-quantile as the order statistic x₍⌈p·n⌉₎ (nearest rank: a value that occurred; the median
 /// of an even count is the lower middle one). None without values.
-pub fn quantile(values: &[f64], p: f64) -> Option<f64> {
+pub(crate) fn quantile(values: &[f64], p: f64) -> Option<f64> {
     let mut v = values.to_vec();
     v.sort_unstable_by(f64::total_cmp);
     let rank = ((p * v.len() as f64).ceil() as usize).clamp(1, v.len().max(1));
@@ -44,7 +44,7 @@ pub fn quantile(values: &[f64], p: f64) -> Option<f64> {
 }
 
 /// Adds `median` and `p95` after `ci_high` to a run's summary (rows per scenario, then filter).
-pub fn add_quantiles(df: &mut DataFrame, out: &RunOutcome) -> Result<()> {
+pub(crate) fn add_quantiles(df: &mut DataFrame, out: &RunOutcome) -> Result<()> {
     let values = || out.scenarios.iter().flat_map(|s| s.per_trial.iter());
     let median: Vec<Option<f64>> = values().map(|v| quantile(v, 0.5)).collect();
     let p95: Vec<Option<f64>> = values().map(|v| quantile(v, 0.95)).collect();

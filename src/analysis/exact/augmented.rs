@@ -21,7 +21,7 @@ pub(crate) struct Augmented {
 
 impl Augmented {
     /// The mean matrices and every factor's term: what a second moment sums over.
-    pub fn with_terms(&self) -> impl Iterator<Item = &Augmented> {
+    pub(crate) fn with_terms(&self) -> impl Iterator<Item = &Augmented> {
         std::iter::once(self).chain(&self.terms)
     }
 }

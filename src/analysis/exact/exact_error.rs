@@ -45,7 +45,7 @@ pub const MAX_DIGITS_LOST: f64 = 6.0;
 impl ExactError {
     /// Why the value cannot be trusted (the step and the digits lost when double precision does
     /// not resolve it), or None.
-    pub fn unresolved(&self) -> Option<String> {
+    pub(crate) fn unresolved(&self) -> Option<String> {
         let Resolution { step, digits_lost } = self.resolution;
         if digits_lost <= MAX_DIGITS_LOST {
             return None;

@@ -44,7 +44,7 @@ use crate::numerics::solve::conic::{Failure, Tuning};
 pub mod structure;
 
 pub use crate::analysis::theorem1::Level;
-pub use structure::{P2_FLOOR, Structure, Synthesis, realization};
+pub use structure::{Structure, Synthesis, realization};
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(untagged)]
@@ -334,12 +334,12 @@ fn synthesize_balanced(
 
 /// Above this many inputs lw = mw(N + 1) the exact norm comes from Lemma 1 (O(N n³)) instead of the
 /// eigenvalues of the lw × lw matrix Λ (the two agree to 1e-13: tests/it/lemma1.rs).
-pub const DENSE_NORM_MAX_INPUTS: usize = 1500;
+pub(crate) const DENSE_NORM_MAX_INPUTS: usize = 1500;
 
 /// [`exact_norm_sq`] and a bound on its rounding error: from the eigenvalues of Λ, each computed to
 /// [`accuracy::eigenvalue_error`] (|||F|||²_a is a weighted mean of them, so it moves by no more to
 /// first order); from Lemma 1's recursion, [`accuracy::recursion_error`].
-pub fn exact_norm_sq_with_error(plant: &Plant, real: &Realization, level: Level) -> Result<(f64, f64)> {
+pub(crate) fn exact_norm_sq_with_error(plant: &Plant, real: &Realization, level: Level) -> Result<(f64, f64)> {
     if plant.nw() * plant.steps() > DENSE_NORM_MAX_INPUTS {
         let value = exact_norm_sq(plant, real, level)?;
         return Ok((value, accuracy::recursion_error(plant.steps(), plant.nx() + real.ns(), value)));
@@ -359,7 +359,7 @@ fn dense_norm_sq(gram: &Mat, level: Level) -> Result<f64> {
 }
 
 /// |||F|||²_a of a realization, a = ∞ giving ‖F‖∞² (seed 003 §2): the eigenvalues of Λ, or Lemma 1
-/// above [`DENSE_NORM_MAX_INPUTS`].
+/// above `DENSE_NORM_MAX_INPUTS`.
 pub fn exact_norm_sq(plant: &Plant, real: &Realization, level: Level) -> Result<f64> {
     if plant.nw() * plant.steps() > DENSE_NORM_MAX_INPUTS {
         return Ok(crate::analysis::lemma1::anisotropic_norm_riccati(plant, real, level.value())?.value.powi(2));

@@ -172,7 +172,7 @@ struct FilterVars {
 
 /// Solves the structure's SDP: Theorem 1's LMIs (`Conditions`) with its change of variables,
 /// minimizing γ² at `level`.
-pub fn synthesize_tuned(
+pub(crate) fn synthesize_tuned(
     plant: &Plant,
     structure: Structure,
     level: Level,
@@ -265,7 +265,7 @@ pub fn synthesize_tuned(
 }
 
 /// P2(k) ⪰ P2_FLOOR · λmax(CzᵀCz) I where the LMIs do not force P2 ≻ 0 (see `floor`).
-pub const P2_FLOOR: f64 = 1e-6;
+const P2_FLOOR: f64 = 1e-6;
 
 /// P2(k) ⪰ P2_FLOOR · λmax(CzᵀCz) I keeps W = P2⁻¹Q recoverable where the LMIs do not force
 /// P2 ≻ 0: in `predictor` they give P2(k) ⪰ CzᵀCz (the output row [0, Cz]), so the floor is needed

@@ -1,5 +1,5 @@
 //! Shards: `filterbench experiment NAME --shard I/N` runs blocks [⌊I·B/N⌋, ⌊(I+1)·B/N⌋) of every
-//! variant and scenario through the pipeline's stages ([`super::each_scenario`]) and writes a
+//! variant and scenario through the pipeline's stages (`super::each_scenario`) and writes a
 //! partial result ([`partial`]); `filterbench merge` checks that the shards belong together,
 //! rebuilds each scenario's statistics from their tree nodes ([`crate::sim::tree`]) and runs the
 //! pipeline with them as its Monte Carlo ([`super::MonteCarlo::Merged`]), so the output is that of

@@ -17,11 +17,11 @@ use crate::sim::tree::Node;
 use crate::config::Overrides;
 
 /// The files of a partial result.
-pub const META: &str = "partial.json";
-pub const NODES: &str = "nodes.parquet";
+pub(crate) const META: &str = "partial.json";
+pub(crate) const NODES: &str = "nodes.parquet";
 pub const TRIALS: &str = "trials.parquet";
 /// The version of this format; a merge refuses any other.
-pub const FORMAT: u32 = 2;
+pub(crate) const FORMAT: u32 = 2;
 
 /// `partial.json`: everything a merge needs to check that shards belong together and to run the
 /// experiment's non-Monte-Carlo parts again.
@@ -48,7 +48,7 @@ pub struct Meta {
 }
 
 /// Blocks of shard `i` of `n` among `total`: [⌊i·B/N⌋, ⌊(i+1)·B/N⌋).
-pub fn shard_blocks(i: u64, n: u64, total: u64) -> std::ops::Range<u64> {
+pub(crate) fn shard_blocks(i: u64, n: u64, total: u64) -> std::ops::Range<u64> {
     let at = |i: u64| (i as u128 * total as u128 / n as u128) as u64;
     at(i)..at(i + 1)
 }
@@ -165,7 +165,7 @@ impl NodeCols {
 }
 
 /// Reads `partial.json` of the shard in `dir`.
-pub fn read_meta(dir: &Path) -> Result<Meta> {
+pub(crate) fn read_meta(dir: &Path) -> Result<Meta> {
     let path = dir.join(META);
     let text = std::fs::read_to_string(&path).map_err(|e| {
         Error::invalid(format!("shard {}", dir.display()), format!("not a partial result ({META}: {e})"))
@@ -207,7 +207,7 @@ impl Table {
 
 /// The nodes of a shard, per run and scenario (`[r][s]`), for `runs` runs of `scenarios[r]`
 /// scenarios each, in block order as written.
-pub fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Node>>>> {
+pub(crate) fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Node>>>> {
     let t = Table::read(dir, NODES)?;
     let bad = |why: String| t.bad(why);
     let (run, scenario, level, index) = (t.u32s("run")?, t.u32s("scenario")?, t.u32s("level")?, t.u64s("index")?);
@@ -267,7 +267,7 @@ pub fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Node>>>
 
 /// The per-trial J of a shard, `[r][s][f]`, with the first trial of each list; rows must be in
 /// (run, scenario, filter, trial) order with consecutive trials.
-pub fn read_trials(dir: &Path, first: u64, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Vec<f64>>>>> {
+pub(crate) fn read_trials(dir: &Path, first: u64, scenarios: &[usize]) -> Result<Vec<Vec<Vec<Vec<f64>>>>> {
     let t = Table::read(dir, TRIALS)?;
     let bad = |why: String| t.bad(why);
     let (run, scenario, filter, trial, j) =

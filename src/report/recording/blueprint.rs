@@ -17,13 +17,13 @@ type BpResult<T> = std::result::Result<T, Box<dyn std::error::Error + Send + Syn
 
 /// A view or container already logged, known by its blueprint entity path.
 #[derive(Clone, Debug)]
-pub struct Node {
+pub(crate) struct Node {
     path: String,
     id: [u8; 16],
 }
 
 /// What a view plots.
-pub enum ViewKind {
+pub(crate) enum ViewKind {
     /// Scalars against the `step` timeline; `from_step` hides earlier steps (a visible range);
     /// the legend in the `legend` corner.
     TimeSeries {
@@ -36,7 +36,7 @@ pub enum ViewKind {
 }
 
 /// A blueprint being written: every view and container is logged as soon as it is made.
-pub struct Layout {
+pub(crate) struct Layout {
     rec: rerun::RecordingStream,
     storage: rerun::sink::MemorySinkStorage,
     next: u64,
@@ -109,13 +109,13 @@ impl Layout {
     }
 
     /// A container of `children`, shown as tabs, side by side, stacked or in a grid.
-    pub fn container(&mut self, kind: bpc::ContainerKind, name: &str, children: &[Node]) -> BpResult<Node> {
+    pub(crate) fn container(&mut self, kind: bpc::ContainerKind, name: &str, children: &[Node]) -> BpResult<Node> {
         self.container_with_shares(kind, name, children, &[])
     }
 
     /// A container whose children get the given shares of its width (horizontal) or height
     /// (vertical); equal shares when `shares` is empty.
-    pub fn container_with_shares(
+    pub(crate) fn container_with_shares(
         &mut self,
         kind: bpc::ContainerKind,
         name: &str,
@@ -146,7 +146,7 @@ impl Layout {
     /// Makes `root` the whole viewport, with the time panel on the `step` timeline (playing in a
     /// loop when `animate`, e.g. a string that moves; else paused), and sends the blueprint into
     /// `target` as its active and default layout.
-    pub fn send(self, root: &Node, animate: bool, target: &rerun::RecordingStream) -> BpResult<()> {
+    pub(crate) fn send(self, root: &Node, animate: bool, target: &rerun::RecordingStream) -> BpResult<()> {
         self.rec.log(
             "viewport",
             &bp::ViewportBlueprint::new()

@@ -6,7 +6,7 @@ use crate::families::galerkin::GalerkinPoint;
 use crate::families::galerkin::sweep::Sweep;
 
 /// A Galerkin filter's place in the sweep.
-pub struct Point {
+pub(crate) struct Point {
     pub filter: usize,
     pub basis: String,
     pub n: usize,

@@ -35,7 +35,7 @@ fn plus_tree(path: &str) -> String {
 }
 
 /// Builds the layout of every run and sends it into `rec`.
-pub fn send(rec: &rerun::RecordingStream, runs: &[Run]) -> BpResult<()> {
+pub(crate) fn send(rec: &rerun::RecordingStream, runs: &[Run]) -> BpResult<()> {
     let mut l = Layout::new(APP)?;
     let mut tabs = vec![overview(&mut l, runs)?];
     for run in runs {

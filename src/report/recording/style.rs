@@ -3,7 +3,7 @@
 //! in the viewer's legend.
 
 /// An sRGBA colour.
-pub type Rgba = [u8; 4];
+pub(crate) type Rgba = [u8; 4];
 
 /// Ten colours that stay apart from each other and from the neutral truth on the viewer's dark
 /// background (a brightened Tableau 10 without its grey, which is kept for the truth).
@@ -20,18 +20,18 @@ const PALETTE: [[u8; 3]; 9] = [
 ];
 
 /// The true signal: neutral, so every coloured line is an estimate.
-pub const TRUTH: Rgba = [0xe8, 0xe8, 0xe8, 0xff];
+pub(crate) const TRUTH: Rgba = [0xe8, 0xe8, 0xe8, 0xff];
 /// The Markov mode of a sample trial: grey, below the truth's white.
-pub const MODE: Rgba = [0x8c, 0x8c, 0x8c, 0xff];
+pub(crate) const MODE: Rgba = [0x8c, 0x8c, 0x8c, 0xff];
 /// The noise-free z the truth scatters around (seed 003 Figs. 3–4): a grey between the mode's
 /// and the truth's; its curve is smooth where the truth is jagged, which tells the two apart.
-pub const NOISE_FREE: Rgba = [0xb4, 0xb4, 0xb4, 0xff];
+pub(crate) const NOISE_FREE: Rgba = [0xb4, 0xb4, 0xb4, 0xff];
 /// Lost measurements: a saturated magenta no filter has, drawn as crosses.
 pub const DROPOUT: Rgba = [0xff, 0x1f, 0xd2, 0xff];
 
 /// The colour of the filter at `index` in the file: the palette first, then hues spread by the
 /// golden angle, so even galerkin_string's 32 filters get 32 different colours.
-pub fn filter_colour(index: usize) -> Rgba {
+pub(crate) fn filter_colour(index: usize) -> Rgba {
     if let Some([r, g, b]) = PALETTE.get(index) {
         return [*r, *g, *b, 0xff];
     }
@@ -41,7 +41,7 @@ pub fn filter_colour(index: usize) -> Rgba {
 }
 
 /// The same colour, faded: the 95 % band around an empirical curve.
-pub fn faded(c: Rgba) -> Rgba {
+pub(crate) fn faded(c: Rgba) -> Rgba {
     [c[0], c[1], c[2], 0x70]
 }
 
@@ -63,9 +63,9 @@ fn hsv(h: f64, s: f64, v: f64) -> [u8; 3] {
 
 /// Line widths in UI points: the empirical curve is what a reader follows; the band and the exact
 /// curve sit around it.
-pub const EMPIRICAL_WIDTH: f32 = 2.5;
-pub const BAND_WIDTH: f32 = 0.75;
-pub const EXACT_WIDTH: f32 = 1.0;
-pub const ESTIMATE_WIDTH: f32 = 1.5;
-pub const TRUTH_WIDTH: f32 = 2.5;
-pub const NOISE_FREE_WIDTH: f32 = 2.0;
+pub(crate) const EMPIRICAL_WIDTH: f32 = 2.5;
+pub(crate) const BAND_WIDTH: f32 = 0.75;
+pub(crate) const EXACT_WIDTH: f32 = 1.0;
+pub(crate) const ESTIMATE_WIDTH: f32 = 1.5;
+pub(crate) const TRUTH_WIDTH: f32 = 2.5;
+pub(crate) const NOISE_FREE_WIDTH: f32 = 2.0;
