@@ -1,4 +1,4 @@
-//! The output contract of ARCHITECTURE.md: `summary.parquet`, `steps.parquet`, `gains.parquet`,
+//! The output contract (docs/output-columns.md): `summary.parquet`, `steps.parquet`, `gains.parquet`,
 //! `paired.parquet`, `design_trace.parquet`, `manifest.json` and `recording.rrd` in one folder, plus
 //! the console table.
 //!
