@@ -158,6 +158,9 @@ pub struct RunView<'a> {
     pub filters: Vec<(&'a str, &'static str, &'a Design)>,
     /// Per scenario (in file order), its name and every filter's exact summed error.
     pub exact: Vec<(&'a str, Vec<f64>)>,
+    /// Per scenario (in file order), every filter's Monte Carlo mean of the summed error with the
+    /// ends of its 95 % interval: (mean, low, high).
+    pub monte_carlo: Vec<Vec<(f64, f64, f64)>>,
     /// One record y\[0..N] of the truth at the nominal covariances (column k = y\[k]), from a random
     /// stream no trial uses: the data a user would have to tune a filter on.
     pub pilot_record: &'a dyn Fn() -> Mat,

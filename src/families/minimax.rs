@@ -20,16 +20,16 @@
 use serde::Deserialize;
 
 use super::kalman::kalman;
-use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, LineSearch, Record, TraceRow};
-use crate::error::{Error, Result};
 use crate::analysis::exact;
-use crate::numerics::accuracy;
-use crate::numerics::linalg::{Mat, frob_dot};
-use crate::model::plant::{Covariances, Plant};
-use crate::numerics::solve::line::maximize_concave_01;
+use crate::error::{Error, Result};
+use crate::filter::design::{Design, DesignInput, Figures, Guarantee, GuaranteeKind, LineSearch, Record, TraceRow};
 use crate::model::choice::CovChoiceFile;
 use crate::model::plant::Pattern;
+use crate::model::plant::{Covariances, Plant};
 use crate::model::uncertainty::CovSet;
+use crate::numerics::accuracy;
+use crate::numerics::linalg::{Mat, frob_dot};
+use crate::numerics::solve::line::maximize_concave_01;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -152,6 +152,7 @@ impl super::family::Family for Minimax {
             // design covariance (`claimed`), which another covariance of the set may exceed at a step.
             guarantee: Some(Guarantee { kind: GuaranteeKind::Minimax, total: certified, per_step: Vec::new() }),
             design_covariance: Some(sol.k_hat),
+            claimed_error: None,
             trace: sol.trace,
             line_searches: sol.line_searches,
             figures,
@@ -262,7 +263,15 @@ pub fn dual_solve(
         }
         if gap <= tolerance * value.abs().max(f64::MIN_POSITIVE) {
             trace.push(TraceRow { iteration: s, objective: value, gap, step: 0.0 });
-            return Ok(DualSolution { k_hat: k, value, trace, line_searches, gap, converged: true, largest_element: false });
+            return Ok(DualSolution {
+                k_hat: k,
+                value,
+                trace,
+                line_searches,
+                gap,
+                converged: true,
+                largest_element: false,
+            });
         }
         let dphi = |tau: f64| {
             let g = dual_gradient(plant, pattern, &along(&k, &dir, tau));

@@ -103,6 +103,7 @@ families! {
     intermittent::Intermittent,
     markov_jump::MarkovJump,
     galerkin::Galerkin,
+    linear::Linear,
 }
 
 /// Reads a filter's family and parameters: the unknown family or the bad parameter is named.

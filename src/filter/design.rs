@@ -171,6 +171,10 @@ pub struct Design {
     pub guarantee: Option<Guarantee>,
     /// The covariance the filter was designed at (Kalman: its `design`; minimax: K̂), if any.
     pub design_covariance: Option<Covariances>,
+    /// The second moment E\[e eᵀ] of the output error e = z − ẑ per step that the filter states
+    /// it believes, when given directly (the `linear` family's `claimed`: Cz P Czᵀ) rather than as
+    /// its error at a design covariance: the claimed error and the NEES weights then come from it.
+    pub claimed_error: Option<Vec<Mat>>,
     /// Iterations of the design procedure (empty for closed-form designs).
     pub trace: Vec<TraceRow>,
     /// The first line searches of the design procedure, sampled (minimax: seed 000 Fig. 1).
@@ -193,6 +197,7 @@ impl Design {
             realization,
             guarantee: None,
             design_covariance: None,
+            claimed_error: None,
             trace: Vec::new(),
             line_searches: Vec::new(),
             figures: Figures::default(),

@@ -56,6 +56,13 @@ pub struct Claimed {
 
 impl Claimed {
     fn of(plant: &Plant, design: &Design) -> Option<Claimed> {
+        let total =
+            |per_step: &[f64]| per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+        // A filter that states its error covariance (the `linear` family's `claimed`) believes tr of it.
+        if let Some(moments) = &design.claimed_error {
+            let per_step: Vec<f64> = moments.iter().map(Mat::trace).collect();
+            return Some(Claimed { total: total(&per_step), per_step });
+        }
         // Every guarantee kind is stated at the filter's design covariance (Kalman: its P; minimax: K̂).
         let g = design.guarantee.as_ref()?;
         // A family that guarantees only the sum (minimax, seed 000 eq (22)) still claims its error at
@@ -65,8 +72,7 @@ impl Claimed {
         } else {
             g.per_step.clone()
         };
-        let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
-        Some(Claimed { total, per_step })
+        Some(Claimed { total: total(&per_step), per_step })
     }
 }
 
@@ -91,6 +97,9 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
             let claimed = Claimed::of(&exp.plant, &design);
             let nees_weights = match (&claimed, &design.design_covariance) {
+                (Some(_), _) if design.claimed_error.is_some() => {
+                    design.claimed_error.as_deref().map(crate::analysis::nees::weights)
+                }
                 (Some(_), Some(cov)) => {
                     let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
                     Some(crate::analysis::nees::weights(&crate::analysis::nees::error_moments(

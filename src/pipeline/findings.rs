@@ -49,6 +49,18 @@ pub(crate) fn after_run(
             .map(|(spec, d)| (spec.name.as_str(), spec.configured.family(), &d.design))
             .collect(),
         exact: scenarios.iter().map(|s| (s.name.as_str(), s.exact.iter().map(|e| e.total).collect())).collect(),
+        monte_carlo: scenarios
+            .iter()
+            .map(|s| {
+                s.mc.filters
+                    .iter()
+                    .map(|f| {
+                        let (low, high) = f.total.ci95();
+                        (f.total.mean, low, high)
+                    })
+                    .collect()
+            })
+            .collect(),
         pilot_record: &pilot,
     };
     let mut families: Vec<&'static str> = Vec::new();

@@ -21,6 +21,7 @@ mod hinf;
 mod hinf_sdp;
 mod kalman;
 mod lemma1;
+mod linear;
 mod markov_jump;
 mod minimax;
 mod multiplicative;
