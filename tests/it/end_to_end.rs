@@ -125,7 +125,7 @@ fn names(df: &DataFrame) -> Vec<String> {
     df.get_column_names().iter().map(|s| s.to_string()).collect()
 }
 
-fn f64s(df: &DataFrame, c: &str) -> Vec<Option<f64>> {
+pub(crate) fn f64s(df: &DataFrame, c: &str) -> Vec<Option<f64>> {
     let s = df
         .column(c)
         .unwrap_or_else(|_| panic!("column {c}"))
