@@ -117,6 +117,9 @@ pub struct Experiment {
     pub source: String,
     /// The string model when the file describes one (seed 004).
     pub string: Option<crate::model::string::StringModel>,
+    /// The array files the experiment file references, in the order read (docs/experiment-files.md,
+    /// "Matrices from files").
+    pub inputs: Vec<super::FileInput>,
 }
 
 impl Experiment {

@@ -4,6 +4,8 @@
 
 mod disturbance;
 mod experiment;
+mod files;
+mod formats;
 mod modes;
 mod plant;
 mod resolve;
@@ -19,6 +21,7 @@ pub use crate::model::plant::Pattern;
 pub use experiment::{
     Experiment, FilterSpec, Input, InputChoice, MAX_TRIALS, Overrides, Scenario, check_name, check_trials, sample_count,
 };
+pub use files::FileInput;
 use resolve::{deserialize, resolve_file};
 use schema::ExperimentFile;
 
@@ -26,7 +29,12 @@ use schema::ExperimentFile;
 pub fn load(path: &Path) -> Result<Experiment> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
-    parse(&name, &path.display().to_string(), &text)
+    parse_with(&name, &path.display().to_string(), &text, &Overrides::default(), folder(path))
+}
+
+/// The folder an experiment file's relative file references are taken from.
+fn folder(path: &Path) -> Option<&Path> {
+    path.parent().filter(|p| !p.as_os_str().is_empty())
 }
 
 /// Reads an experiment file and returns one experiment per `[[variants]]` entry: the file with the
@@ -36,12 +44,19 @@ pub fn load(path: &Path) -> Result<Experiment> {
 pub fn load_variants(path: &Path, overrides: &Overrides) -> Result<Vec<Experiment>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
-    variants_of(&name, &path.display().to_string(), &text, overrides)
+    variants_of(&name, &path.display().to_string(), &text, overrides, folder(path))
 }
 
-/// [`load_variants`] of experiment text: `name` is the experiment's name, `file` only for messages.
-pub(crate) fn variants_of(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Vec<Experiment>> {
-    let base = parse_with(name, file, text, overrides)?;
+/// [`load_variants`] of experiment text: `name` is the experiment's name, `file` only for messages,
+/// `folder` where relative file references are read from (None: the current directory).
+pub(crate) fn variants_of(
+    name: &str,
+    file: &str,
+    text: &str,
+    overrides: &Overrides,
+    folder: Option<&Path>,
+) -> Result<Vec<Experiment>> {
+    let base = parse_with(name, file, text, overrides, folder)?;
     let file = file.to_string();
     let mut doc: toml::Table =
         toml::from_str(&base.source).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
@@ -70,9 +85,12 @@ pub(crate) fn variants_of(name: &str, file: &str, text: &str, overrides: &Overri
                 file: file.clone(),
                 message: format!("variant `{name}`: key `{}`: {}", e.path(), e.inner().message().trim()),
             })?;
-        let mut exp = resolve_file(&base.name, raw, &base.source, overrides)
-            .map_err(|e| Error::Parse { file: file.clone(), message: format!("variant `{name}`: {e}") })?;
+        let mut exp = resolve_file(&base.name, raw, &base.source, overrides).map_err(|e| {
+            let e = files::name_file(e, &base.inputs);
+            Error::Parse { file: file.clone(), message: format!("variant `{name}`: {e}") }
+        })?;
         exp.variant = Some(name);
+        exp.inputs = base.inputs.clone();
         out.push(exp);
     }
     if out.is_empty() {
@@ -93,16 +111,44 @@ fn merge(doc: &mut toml::Table, patch: toml::Table) {
     }
 }
 
-/// Parses experiment text; `file` is only used in messages.
+/// Parses experiment text; `file` is only used in messages. Relative file references are read
+/// from the current directory ([`load`] reads them from the experiment file's folder).
 pub fn parse(name: &str, file: &str, text: &str) -> Result<Experiment> {
-    parse_with(name, file, text, &Overrides::default())
+    parse_with(name, file, text, &Overrides::default(), None)
 }
 
-/// [`parse`] with the command line's `overrides`.
-pub(crate) fn parse_with(name: &str, file: &str, text: &str, overrides: &Overrides) -> Result<Experiment> {
+/// [`parse`] with the command line's `overrides`, reading relative file references from `folder`.
+/// A file with references is read with each replaced by its array: the experiment's `source`
+/// (the manifest's `experiment_file`, what shards are merged from) is then that text, which
+/// builds the same experiment without the files, and `inputs` lists the files read.
+pub(crate) fn parse_with(
+    name: &str,
+    file: &str,
+    text: &str,
+    overrides: &Overrides,
+    folder: Option<&Path>,
+) -> Result<Experiment> {
     check_name("experiment name", name)?;
-    let raw: ExperimentFile = deserialize(file, text)?;
-    resolve_file(name, raw, text, overrides)
+    let doc = toml::from_str::<toml::Table>(text).ok().filter(|d| d.values().any(files::has_refs));
+    let Some(mut doc) = doc else {
+        let raw: ExperimentFile = deserialize(file, text)?;
+        return resolve_file(name, raw, text, overrides);
+    };
+    let mut inputs = Vec::new();
+    files::resolve_refs(&mut doc, "", folder.unwrap_or(Path::new(".")), &mut inputs)?;
+    let resolved =
+        toml::to_string(&doc).map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string() })?;
+    let named = |e| files::name_file(e, &inputs);
+    // Read from the table, not the text: a line number would be one of the text with arrays inline.
+    let raw: ExperimentFile = serde_path_to_error::deserialize(toml::Value::Table(doc))
+        .map_err(|e| Error::Parse {
+            file: file.to_string(),
+            message: format!("key `{}`: {}", e.path(), e.inner().message().trim()),
+        })
+        .map_err(named)?;
+    let mut exp = resolve_file(name, raw, &resolved, overrides).map_err(named)?;
+    exp.inputs = inputs;
+    Ok(exp)
 }
 
 /// The one-line description of an experiment file, for `filterbench list` (None if unreadable).

@@ -171,6 +171,7 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
         filters,
         source: text.to_string(),
         string: None,
+        inputs: Vec::new(),
     })
 }
 

@@ -118,6 +118,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &CommandLine, path:
         "findings": findings_json(out),
         "variants": variants,
         "experiment_file": exp.source,
+        "files": exp.inputs,
     });
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Error::output("manifest.json", e))?;
     std::fs::write(path, text).map_err(|e| Error::io(path, e))

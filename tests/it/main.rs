@@ -6,6 +6,7 @@ mod aniso_design;
 mod aniso_dropout;
 mod aniso_structures;
 mod anisotropy;
+mod array_files;
 mod bad_input;
 mod common;
 mod determinism;

@@ -187,6 +187,7 @@ pub fn check(dirs: &[PathBuf], out: &std::path::Path) -> Result<Shards> {
         &format!("{} (from the shards)", meta.experiment),
         &meta.experiment_file,
         &meta.overrides,
+        None,
     )?;
     if exps.iter().map(|e| e.variant.clone()).collect::<Vec<_>>() != meta.variants {
         return Err(Error::invalid(name(0), "its variants are not those of its experiment file"));
