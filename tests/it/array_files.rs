@@ -178,15 +178,7 @@ fn raw_npy(path: &Path, descr: &str, shape: &str, data: &[u8]) {
     std::fs::write(path, bytes).unwrap();
 }
 
-fn refused(o: &std::process::Output, needles: &[&str]) {
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "exit 2: {err}");
-    assert!(!err.contains("panicked"), "no panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
-    for n in needles {
-        assert!(err.contains(n), "message should mention `{n}`: {err}");
-    }
-}
+use crate::bad_input::check_failure as refused;
 
 /// Every bad file: one line, exit 2, naming the key, the file and the cause.
 #[test]

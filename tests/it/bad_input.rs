@@ -31,10 +31,10 @@ fn fails_cleanly(text: &str, needles: &[&str]) {
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
 }
 
-fn check_failure(o: &std::process::Output, needles: &[&str]) {
+/// Bad input's contract: exit code 2 (a panic would be 101), no panic, one line naming every needle.
+pub(crate) fn check_failure(o: &std::process::Output, needles: &[&str]) {
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success(), "must fail; stderr: {err}");
-    assert_ne!(o.status.code(), Some(101), "a panic exits with 101: {err}");
+    assert_eq!(o.status.code(), Some(2), "bad input exits with 2: {err}");
     assert!(!err.contains("panicked"), "no panic: {err}");
     assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
     for n in needles {
