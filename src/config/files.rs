@@ -102,7 +102,7 @@ fn read_ref(t: &toml::Table, key: &str, base: &Path) -> Result<(toml::Value, Fil
             data[i]
         )));
     }
-    let sha256 = Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
+    let sha256 = crate::numerics::linalg::hex(&Sha256::digest(&bytes));
     let value = to_value(&shape, &data);
     let input = FileInput { key: key.to_string(), file: file.clone(), array, resolved, sha256, shape };
     Ok((value, input))
@@ -132,10 +132,20 @@ pub(super) fn name_file(e: Error, inputs: &[FileInput]) -> Error {
         Some(a) => format!(" (read from `{}`, array `{a}`)", i.file),
         None => format!(" (read from `{}`)", i.file),
     };
+    // A key the message compares with (`plant.A` in "the rows of plant.A"), as a whole key.
+    let mentioned = |text: &str| {
+        inputs.iter().find(|i| {
+            text.match_indices(i.key.as_str())
+                .any(|(at, k)| !text[at + k.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_'))
+        })
+    };
     match e {
-        Error::Invalid { key, cause } => match from(&key) {
-            Some(i) => Error::Invalid { cause: format!("{cause}{}", tell(i)), key },
-            None => Error::Invalid { key, cause },
+        Error::Invalid { key, cause } => match (from(&key), mentioned(&cause)) {
+            (Some(i), _) => Error::Invalid { cause: format!("{cause}{}", tell(i)), key },
+            (None, Some(i)) => {
+                Error::Invalid { cause: format!("{cause} ({} {}", i.key, tell(i).trim_start_matches(" (")), key }
+            }
+            (None, None) => Error::Invalid { key, cause },
         },
         Error::Parse { file, message } => {
             let key = message.strip_prefix("key `").and_then(|m| m.split('`').next()).unwrap_or_default();

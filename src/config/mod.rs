@@ -6,6 +6,7 @@ mod disturbance;
 mod experiment;
 mod files;
 mod formats;
+mod from_run;
 mod modes;
 mod plant;
 mod resolve;
@@ -129,13 +130,17 @@ pub(crate) fn parse_with(
     folder: Option<&Path>,
 ) -> Result<Experiment> {
     check_name("experiment name", name)?;
-    let doc = toml::from_str::<toml::Table>(text).ok().filter(|d| d.values().any(files::has_refs));
+    let doc = toml::from_str::<toml::Table>(text)
+        .ok()
+        .filter(|d| d.values().any(|v| files::has_refs(v) || from_run::has_runs(v)));
     let Some(mut doc) = doc else {
         let raw: ExperimentFile = deserialize(file, text)?;
         return resolve_file(name, raw, text, overrides);
     };
     let mut inputs = Vec::new();
-    files::resolve_refs(&mut doc, "", folder.unwrap_or(Path::new(".")), &mut inputs)?;
+    let base = folder.unwrap_or(Path::new("."));
+    files::resolve_refs(&mut doc, "", base, &mut inputs)?;
+    doc.iter_mut().try_for_each(|(_, v)| from_run::resolve_runs(v, base, &mut inputs))?;
     let resolved =
         toml::to_string(&doc).map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string() })?;
     let named = |e| files::name_file(e, &inputs);

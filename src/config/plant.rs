@@ -33,14 +33,17 @@ pub(super) fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
     }
     let b = from_rows("plant.B", &p.B, None)?;
     if b.nrows() != n {
-        return Err(Error::invalid("plant.B", format!("expected {n} rows (the state dimension), found {}", b.nrows())));
+        return Err(Error::invalid(
+            "plant.B",
+            format!("expected {n} rows (the state dimension: the rows of plant.A), found {}", b.nrows()),
+        ));
     }
     let nw = b.ncols();
     let c = from_rows("plant.C", &p.C, None)?;
     if c.ncols() != n {
         return Err(Error::invalid(
             "plant.C",
-            format!("expected {n} columns (the state dimension), found {}", c.ncols()),
+            format!("expected {n} columns (the state dimension: the rows of plant.A), found {}", c.ncols()),
         ));
     }
     let ny = c.nrows();
@@ -52,7 +55,7 @@ pub(super) fn plant_matrices(p: &PlantFile) -> Result<Matrices> {
     if cz.ncols() != n {
         return Err(Error::invalid(
             "plant.Cz",
-            format!("expected {n} columns (the state dimension), found {}", cz.ncols()),
+            format!("expected {n} columns (the state dimension: the rows of plant.A), found {}", cz.ncols()),
         ));
     }
     let nz = cz.nrows();

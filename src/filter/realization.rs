@@ -10,7 +10,7 @@
 use crate::error::{Error, Result};
 use crate::model::plant::Pattern;
 use crate::model::plant::Plant;
-use crate::numerics::linalg::{Mat, Vector};
+use crate::numerics::linalg::{Mat, Vector, digest_mat};
 
 /// The gains of one step.
 #[derive(Clone, Debug)]
@@ -73,13 +73,7 @@ impl Realization {
     /// Feeds every number of the realization (s0, every gain matrix of every step and mode, and
     /// the tracking map), with its shape, as bits into `h`: equal digests mean bit-equal filters.
     pub(crate) fn digest(&self, h: &mut impl sha2::Digest) {
-        let mut mat = |m: &Mat| {
-            h.update((m.nrows() as u64).to_le_bytes());
-            h.update((m.ncols() as u64).to_le_bytes());
-            for v in m.iter() {
-                h.update(v.to_bits().to_le_bytes());
-            }
-        };
+        let mut mat = |m: &Mat| digest_mat(h, m);
         mat(&Mat::from_column_slice(self.s0.len(), 1, self.s0.as_slice()));
         for g in self.gains.iter().flatten() {
             for m in [&g.af, &g.bf, &g.cf, &g.df, &g.gf] {

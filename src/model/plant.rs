@@ -25,7 +25,7 @@ use std::borrow::Cow;
 
 use crate::error::{Error, Result};
 use crate::model::shape::Shape;
-use crate::numerics::linalg::{Mat, Vector, block_diag};
+use crate::numerics::linalg::{Mat, Vector, block_diag, digest_mat, hex};
 
 /// How the measurement depends on a random mode (docs/math.md §0, §3).
 #[derive(Clone, Debug)]
@@ -174,6 +174,24 @@ impl Plant {
     }
     pub fn steps(&self) -> usize {
         self.horizon + 1
+    }
+    /// The SHA-256 (hex) of the plant's model: its sizes and, at every step and in every mode, A,
+    /// B, C, D, Cz and Dz as used there (docs/math.md §0, §3). Not the noise, the modes' chain or
+    /// the known input: a filter designed for one model may be judged under other statistics. A
+    /// filter taken from an earlier run (`from_run`) must come from a plant of the same digest.
+    pub fn model_digest(&self) -> String {
+        use sha2::Digest;
+        let mut h = sha2::Sha256::new();
+        for k in 0..self.steps() {
+            for s in 0..self.n_modes() {
+                for m in [self.a_of(k, s), self.b_of(k, s), &self.c_of(k, s), &self.d_of(k, s)] {
+                    digest_mat(&mut h, m);
+                }
+            }
+            digest_mat(&mut h, self.cz_at(k));
+            digest_mat(&mut h, self.dz_at(k));
+        }
+        hex(&h.finalize())
     }
     /// Whether step k counts in the summed error J.
     pub fn counts(&self, k: usize) -> bool {

@@ -32,6 +32,21 @@ fn scale(m: &Mat) -> f64 {
     m.amax().max(1e-300)
 }
 
+/// Feeds a matrix's shape and the bits of its entries (column by column) into `h`: equal digests
+/// mean bit-equal matrices. The one encoding behind every fingerprint of filters and plants.
+pub(crate) fn digest_mat(h: &mut impl sha2::Digest, m: &Mat) {
+    h.update((m.nrows() as u64).to_le_bytes());
+    h.update((m.ncols() as u64).to_le_bytes());
+    for v in m.iter() {
+        h.update(v.to_bits().to_le_bytes());
+    }
+}
+
+/// A digest's bytes in lower-case hex, as the manifest and the fingerprints print them.
+pub fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// Checks that `m` is square, symmetric and positive semidefinite (to `PSD_TOL` relative to its
 /// largest entry); the error names `key` and the smallest eigenvalue.
 pub(crate) fn check_psd(key: &str, m: &Mat) -> Result<()> {

@@ -83,5 +83,5 @@ pub fn fingerprint(filters: &[DesignedFilter]) -> String {
     for f in filters {
         f.design.realization.digest(&mut h);
     }
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    crate::numerics::linalg::hex(&h.finalize())
 }

@@ -69,11 +69,37 @@ fn run_json(exp: &Experiment, out: &RunOutcome) -> (Vec<serde_json::Value>, Vec<
                 "design_covariance": d.design.design_covariance.as_ref().map(cov_json),
                 "diagnostics": d.design.manifest_diagnostics(),
                 "anisotropic": d.anisotropic.map(|x| serde_json::json!({"norm_sq": x.norm_sq, "h2_sq": x.h2_sq, "hinf_sq": x.hinf_sq})),
+                "realization": realization_json(&d.design.realization),
                 "gain_bound": d.design.gain_bound.map(|g| serde_json::json!({"gamma_sq": g.gamma_sq, "design_gamma_sq": g.design_gamma_sq, "anisotropy": g.anisotropy, "theorem1_sq": g.theorem1_sq})),
             })
         })
         .collect();
     (scenarios, filters)
+}
+
+/// What an earlier run's filter is read back with (`from_run`, docs/experiment-files.md "A filter
+/// from an earlier run"): the sizes gains.parquet leaves out with its zeros, and the digest of the
+/// realization it holds.
+fn realization_json(r: &crate::filter::realization::Realization) -> serde_json::Value {
+    use sha2::Digest;
+    let mut h = sha2::Sha256::new();
+    r.digest(&mut h);
+    let g = r.gains(0, 0);
+    serde_json::json!({
+        "states": r.ns(),
+        "modes": if r.is_mode_indexed() { r.gains[0].len() } else { 1 },
+        "known_input_columns": g.gf.ncols(),
+        "sha256": crate::numerics::linalg::hex(&h.finalize()),
+    })
+}
+
+/// The plant a run's filters were designed on: its sizes and the digest of its model.
+fn plant_json(exp: &Experiment) -> serde_json::Value {
+    let p = &exp.plant;
+    serde_json::json!({
+        "states": p.nx(), "measurements": p.ny(), "outputs": p.nz(), "steps": p.steps(),
+        "modes": p.n_modes(), "sha256": p.model_digest(),
+    })
 }
 
 /// What the families found on the run ([`crate::families::Finding`]), per family.
@@ -92,7 +118,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &CommandLine, path:
         .map(|(e, o)| {
             let (scenarios, filters) = run_json(e, o);
             serde_json::json!({
-                "variant": e.variant, "arrival": e.plant.arrival(), "anisotropy": e.anisotropy,
+                "variant": e.variant, "plant": plant_json(e), "arrival": e.plant.arrival(), "anisotropy": e.anisotropy,
                 "design_seconds": o.design_seconds, "total_seconds": o.total_seconds,
                 "scenarios": scenarios, "filters": filters, "findings": findings_json(o),
             })
@@ -107,6 +133,7 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], overrides: &CommandLine, path:
         "threads": out.threads,
         "pattern": exp.pattern,
         "horizon": exp.plant.horizon,
+        "plant": plant_json(exp),
         "overrides": overrides,
         "filterbench_version": env!("CARGO_PKG_VERSION"),
         "libraries": library_versions(),

@@ -284,3 +284,83 @@ fn manifest_records_files() {
     assert!(again.inputs.is_empty());
     assert_eq!(again.plant.a_at(0), load(&path).plant.a_at(0));
 }
+
+/// References outside the plant: a set's center, a disturbance's weight, a filter's design
+/// covariance and a variant's patch each read from a file give the figures of the inline file, to
+/// the bit, and the manifest's list names each key.
+#[test]
+fn references_in_sets_disturbances_filters_and_variants() {
+    use crate::common::Patch;
+    let tmp = crate::common::TempDir::new();
+    let dir = tmp.path();
+    let eye = [vec![1.0, 0.0, 0.0], vec![0.0, 1.0, 0.0], vec![0.0, 0.0, 1.0]];
+    let (shape, data) = flat(&eye);
+    write_npy(&dir.join("eye.npy"), &shape, &data);
+    let zeros = vec![vec![0.0; 3]; 3];
+    let (shape, data) = flat(&zeros);
+    write_npy(&dir.join("zeros.npy"), &shape, &data);
+    let measurement = [vec![0.5, 0.0, 0.0], vec![0.0, 0.8, 0.0], vec![0.0, 0.0, 0.1]];
+    let (shape, data) = flat(&measurement);
+    write_npy(&dir.join("measurement.npy"), &shape, &data);
+    let half = [vec![0.2, 0.0, 0.0], vec![0.0, 0.2, 0.0], vec![0.0, 0.0, 0.2]];
+    let inline = crate::common::text("minimax_energy").patch("trials = 20000", "trials = 300").patch(
+        "[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\n",
+        "[sets.measurement]\nkind = \"box\"\nhalf_width = 0.1\ncenter = [[0.5, 0, 0], [0, 0.8, 0], [0, 0, 0.1]]\n",
+    ) + "\n[[variants]]\nname = \"plain\"\n\n[[variants]]\nname = \"wide\"\nsets = { process = { half_width = [[0.2, 0, 0], [0, 0.2, 0], [0, 0, 0.2]] } }\n";
+    let (shape, data) = flat(&half);
+    write_npy(&dir.join("half.npy"), &shape, &data);
+    let from_files = inline
+        .patch("center = [[0.5, 0, 0], [0, 0.8, 0], [0, 0, 0.1]]", "center = { file = \"measurement.npy\" }")
+        .patch(
+            "[disturbances.u]\nweight = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+            "[disturbances.u]\nweight = { file = \"eye.npy\" }",
+        )
+        .patch(
+            "design = { kind = \"given\", u = [[0, 0, 0], [0, 0, 0], [0, 0, 0]],",
+            "design = { kind = \"given\", u = { file = \"zeros.npy\" },",
+        )
+        .patch("half_width = [[0.2, 0, 0], [0, 0.2, 0], [0, 0, 0.2]]", "half_width = { file = \"half.npy\" }");
+    let load_all = |name: &str, text: &str| {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        config::load_variants(&path, &Default::default()).unwrap_or_else(|e| panic!("{name} loads: {e}"))
+    };
+    let (a, b) = (load_all("inline", &inline), load_all("files", &from_files));
+    assert_eq!(a.len(), 2);
+    let keys: Vec<&str> = b[0].inputs.iter().map(|i| i.key.as_str()).collect();
+    for k in [
+        "sets.measurement.center",
+        "disturbances.u.weight",
+        "filters[0].design.u",
+        "variants[1].sets.process.half_width",
+    ] {
+        assert!(keys.contains(&k), "{k} recorded in {keys:?}");
+    }
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(figures(x), figures(y), "variant {:?}: identical to the bit", x.variant);
+    }
+}
+
+/// A matrix read from a file that makes another key's size wrong: the message names both keys and
+/// the file.
+#[test]
+fn a_wrong_size_from_a_file_names_the_file_behind_the_size() {
+    let tmp = crate::common::TempDir::new();
+    let dir = tmp.path();
+    write_npy(&dir.join("A2.npy"), &[2, 2], &[1.0, 0.0, 0.0, 1.0]);
+    let path = with_refs(dir, |k| {
+        if k == "A" {
+            file_ref("A2.npy", None)
+        } else {
+            baseline()[if PLANT.contains(&k) { "plant" } else { "nominal" }][k].clone()
+        }
+    });
+    let o = run(&path);
+    crate::bad_input::check_failure(
+        &o,
+        &[
+            "plant.B: expected 2 rows (the state dimension: the rows of plant.A), found 3",
+            "(plant.A read from `A2.npy`)",
+        ],
+    );
+}

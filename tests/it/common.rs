@@ -145,3 +145,12 @@ impl Drop for TempDir {
         let _ = std::fs::remove_dir_all(&self.0);
     }
 }
+
+/// A matrix as a TOML array, every entry in Rust's shortest round-trip form (`{:?}`), so it reads
+/// back as the same f64.
+pub fn toml_mat(m: &filterbench::numerics::linalg::Mat) -> String {
+    let rows: Vec<String> = (0..m.nrows())
+        .map(|i| format!("[{}]", (0..m.ncols()).map(|j| format!("{:?}", m[(i, j)])).collect::<Vec<_>>().join(", ")))
+        .collect();
+    format!("[{}]", rows.join(", "))
+}

@@ -15,6 +15,7 @@ mod double_double;
 mod end_to_end;
 mod exact_vs_mc;
 mod family_recipe;
+mod from_run;
 mod galerkin;
 mod galerkin_projections;
 mod generators;

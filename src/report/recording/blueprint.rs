@@ -63,7 +63,7 @@ impl Layout {
     }
 
     fn uuid_string(b: &[u8; 16]) -> String {
-        let h: String = b.iter().map(|x| format!("{x:02x}")).collect();
+        let h = crate::numerics::linalg::hex(b);
         format!("{}-{}-{}-{}-{}", &h[0..8], &h[8..12], &h[12..16], &h[16..20], &h[20..32])
     }
 
