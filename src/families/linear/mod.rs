@@ -6,7 +6,7 @@
 //!   Gf = 0 otherwise.
 //! - A gain K on the plant's own model (A, C, Cz of each step), in predictor form
 //!   x̂\[k+1] = A x̂ + K (y − C x̂) + r, ẑ = Cz x̂ (seed 000 eq (4), seed 002 eq (5.7): the
-//!   realization [`Gains::predictor`] builds), or in filter form x̂⁻\[k+1] = A x̂ + r,
+//!   realization [`crate::filter::realization::Gains::predictor`] builds), or in filter form x̂⁻\[k+1] = A x̂ + r,
 //!   x̂ = x̂⁻ + K (y − C x̂⁻), ẑ = Cz x̂, realized on the prior x̂⁻ like the Kalman family's filtering
 //!   form (seed 000 eqs (4)–(6)): Af = A − (A K) C, Bf = A K, Cf = Cz − (Cz K) C, Df = Cz K. The
 //!   part Dz w\[k] of z is estimated as zero: a gain on x carries no estimate of w.
