@@ -117,14 +117,25 @@ fn npy<R: std::io::Read>(file: npyz::NpyFile<R>) -> Result<Array, String> {
     Ok(Array { shape, data })
 }
 
+/// An .npz is a zip archive of `NAME.npy` members (numpy's `savez` stores them, `savez_compressed`
+/// deflates them).
 fn npz(bytes: &[u8], key: &str) -> Result<Array, String> {
     let mut archive =
-        npyz::npz::NpzArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a valid .npz archive ({e})"))?;
-    let names: Vec<String> = archive.array_names().map(str::to_string).collect();
-    match archive.by_name(key).map_err(|e| format!("array `{key}` cannot be read ({e})"))? {
-        Some(f) => npy(f),
-        None => Err(format!("no array `{key}` in the archive (it holds: {})", names.join(", "))),
-    }
+        zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a valid .npz archive ({e})"))?;
+    let names: Vec<String> =
+        archive.file_names().filter_map(|n| n.strip_suffix(".npy")).map(str::to_string).collect();
+    let mut member = match archive.by_name(&format!("{key}.npy")) {
+        Ok(m) => m,
+        Err(zip::result::ZipError::FileNotFound) => {
+            let mut names = names;
+            names.sort();
+            return Err(format!("no array `{key}` in the archive (it holds: {})", names.join(", ")));
+        }
+        Err(e) => return Err(format!("array `{key}` cannot be read ({e})")),
+    };
+    let mut npy_bytes = Vec::with_capacity(member.size() as usize);
+    std::io::Read::read_to_end(&mut member, &mut npy_bytes).map_err(|e| format!("array `{key}` cannot be read ({e})"))?;
+    npy(npyz::NpyFile::new(&npy_bytes[..]).map_err(|e| format!("array `{key}` is not an .npy ({e})"))?)
 }
 
 /// The 128-byte header of a v7.3 .mat says so in its text, and an HDF5 signature follows at 512.

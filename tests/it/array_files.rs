@@ -43,6 +43,22 @@ fn write_npy(path: &Path, shape: &[u64], data: &[f64]) {
     w.finish().unwrap();
 }
 
+/// An .npz as numpy's `savez_compressed` writes it: a zip of deflated `NAME.npy` members.
+fn write_npz(path: &Path, arrays: &[(&str, Vec<u64>, Vec<f64>)]) {
+    use std::io::Write;
+    let mut zip = zip::ZipWriter::new(std::fs::File::create(path).unwrap());
+    let options = zip::write::FileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    for (name, shape, data) in arrays {
+        let mut bytes = Vec::new();
+        let mut w = npyz::WriteOptions::new().default_dtype().shape(shape).writer(&mut bytes).begin_nd().unwrap();
+        w.extend(data.iter().copied()).unwrap();
+        w.finish().unwrap();
+        zip.start_file(format!("{name}.npy"), options).unwrap();
+        zip.write_all(&bytes).unwrap();
+    }
+    zip.finish().unwrap();
+}
+
 fn flat(m: &[Vec<f64>]) -> (Vec<u64>, Vec<f64>) {
     (vec![m.len() as u64, m[0].len() as u64], m.iter().flatten().copied().collect())
 }
@@ -101,15 +117,9 @@ fn round_trips_are_bit_identical() {
             m.iter().map(|r| r.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(", ") + "\n").collect();
         std::fs::write(dir.join(format!("{k}.csv")), text).unwrap();
     }
-    // .npz, one archive.
-    let mut npz = npyz::npz::NpzWriter::create(dir.join("m.npz")).unwrap();
-    for (k, m) in &mats {
-        let (shape, data) = flat(m);
-        let mut w = npz.array::<f64>(k, Default::default()).unwrap().default_dtype().shape(&shape).begin_nd().unwrap();
-        w.extend(data).unwrap();
-        w.finish().unwrap();
-    }
-    drop(npz);
+    // .npz, one archive, deflated like numpy's savez_compressed.
+    let arrays: Vec<(&str, Vec<u64>, Vec<f64>)> = mats.iter().map(|(k, m)| (*k, flat(m).0, flat(m).1)).collect();
+    write_npz(&dir.join("m.npz"), &arrays);
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/files");
     for mat in ["kalman_baseline_v6.mat", "kalman_baseline_v7.mat"] {
         std::fs::copy(data.join(mat), dir.join(mat)).unwrap();
@@ -195,11 +205,7 @@ fn bad_files_are_refused() {
     raw_npy(&dir.join("complex.npy"), "<c16", "(1,)", &[0; 16]);
     raw_npy(&dir.join("int.npy"), ">i4", "(3, 3)", &[0, 0, 0, 1].repeat(9));
     raw_npy(&dir.join("big.npy"), "<i8", "(3, 3)", &[[0, 0, 0, 0, 0, 0, 0x40, 0].as_slice(), &[0; 64]].concat());
-    let mut npz = npyz::npz::NpzWriter::create(dir.join("m.npz")).unwrap();
-    let mut w = npz.array::<f64>("A", Default::default()).unwrap().default_dtype().shape(&shape).begin_nd().unwrap();
-    w.extend(data.iter().copied()).unwrap();
-    w.finish().unwrap();
-    drop(npz);
+    write_npz(&dir.join("m.npz"), &[("A", shape.clone(), data.clone())]);
     std::fs::write(dir.join("ragged.csv"), "0.8, 0.2, -0.1\n0.2, 0.3\n0.5, 0.3, 0.7\n").unwrap();
     std::fs::write(dir.join("header.csv"), "a, b, c\n0.8, 0.2, -0.1\n").unwrap();
     std::fs::write(dir.join("A.txt"), "0.8").unwrap();
