@@ -8,6 +8,7 @@ mod aniso_structures;
 mod anisotropy;
 mod array_files;
 mod bad_input;
+mod check;
 mod common;
 mod determinism;
 mod disturbance;
