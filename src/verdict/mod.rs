@@ -2,4 +2,5 @@
 //! with one family-wise false-alarm rate split over every tested cell by Holm's procedure and the
 //! power of every test stated (docs/checks.md).
 
+pub mod compare;
 pub mod stats;
