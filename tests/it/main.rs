@@ -10,6 +10,7 @@ mod array_files;
 mod bad_input;
 mod check;
 mod common;
+mod compare;
 mod determinism;
 mod disturbance;
 mod double_double;

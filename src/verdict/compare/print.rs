@@ -11,11 +11,18 @@ use crate::error::{Error, Result};
 /// How many changed cells the console lists below the table.
 const LISTED: usize = 20;
 
+/// A number with four significant figures, as the run's console table writes it.
 fn num(x: f64) -> String {
-    if x.is_infinite() || x.is_nan() {
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 {
         return format!("{x}");
     }
-    if x != 0.0 && !(1e-2..1e5).contains(&x.abs()) { format!("{x:.2e}") } else { format!("{x:.3}") }
+    if (1e-2..1e5).contains(&a) {
+        let prec = (3 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.prec$}")
+    } else {
+        format!("{x:.2e}")
+    }
 }
 
 /// One row per (table, column): its cells, how many are identical, moved within noise, changed
