@@ -122,6 +122,20 @@ fn shifted_exact_and_shifted_mean_are_changes() {
     assert_eq!(o.status.code(), Some(1), "{out}");
     assert!(out.contains("summary exact scenario=") && out.contains("CHANGED"), "{out}");
 
+    // Moved by 1e-10 relative, below the default tolerance of 1e-8: within noise, exit 0.
+    let nudged = tmp.path().join("nudged");
+    copy(&a, &nudged);
+    let mut df = read(&nudged.join("summary.parquet"));
+    let exact = df.column("exact").unwrap().f64().unwrap() * (1.0 + 1e-10);
+    df.with_column(exact.into_series().into()).unwrap();
+    write(&nudged.join("summary.parquet"), &mut df);
+    let cmp = compare(&a, &nudged);
+    assert!(!cmp.changed());
+    let col = cmp.columns.iter().find(|c| c.table == "summary" && c.column == "exact").unwrap();
+    assert_eq!((col.within_noise, col.cells), (df.height(), df.height()));
+    assert_eq!(cmp.count(Status::WithinNoise), df.height());
+    assert_eq!(run(&["compare", s(&a), s(&nudged)]).status.code(), Some(0));
+
     // One Monte Carlo mean moved by 10 combined standard errors against a run on other draws.
     let moved = tmp.path().join("moved");
     copy(&c, &moved);

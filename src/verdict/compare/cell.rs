@@ -7,13 +7,14 @@ use serde::ser::Serializer;
 
 use crate::verdict::stats::{Sided, normal_p};
 
-/// The default relative tolerance of deterministic columns. The design SDPs are solved by clarabel
-/// to a relative gap and feasibility of 1e-10, and after a numerical failure again at 1e-8
-/// (`numerics::solve::conic`'s `Tuning::robust`); two routes to one SDP figure agree to 1.1e-8
-/// relative at worst (λ_min by the SDP (4.7) and by bisection, docs/families.md, the `hinf` row).
-/// So a design solved again under another BLAS kernel may move by up to about 1e-8 relative
-/// without anything having changed; the moment recursions' own rounding (steps · n · ε ≈ 1e-12,
-/// docs/families.md "What is certified, and how") is far below.
+/// The default relative tolerance of deterministic columns: the accuracy the solvers state for one
+/// solve. The SDPs are solved by clarabel to a relative gap and feasibility of 1e-10, and after a
+/// numerical failure again at 1e-8 (`numerics::solve::conic`'s `Tuning::robust`); two routes to one
+/// SDP figure agree to 1.1e-8 relative at worst (λ_min by the SDP (4.7) and by bisection,
+/// docs/families.md, the `hinf` row); the moment recursions' rounding (steps · n · ε ≈ 1e-12,
+/// docs/families.md "What is certified, and how") is far below. A larger move is not the same
+/// computation rounded differently (another OpenBLAS kernel returns other SDP designs, measured in
+/// docs/regression-tests.md).
 pub const DEFAULT_REL_TOL: f64 = 1e-8;
 
 /// The default family-wise false-alarm rate of the Monte Carlo cells (issue 27: one α per check).

@@ -34,7 +34,7 @@ impl ColumnSummary {
 }
 
 /// The comparison of two result folders: one summary per (table, column) counting every cell, and
-/// the cells themselves (only those that moved, unless [`CompareOptions::keep_identical`]).
+/// the cells themselves (only those that moved, unless [`super::CompareOptions::keep_identical`]).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Comparison {
     pub old: PathBuf,
