@@ -12,6 +12,7 @@ pub mod numerics;
 pub mod pipeline;
 pub mod report;
 pub mod sim;
+pub mod verdict;
 
 pub use error::{Error, Result};
 

@@ -1,4 +1,5 @@
-//! Command line: `list`, `experiment NAME|FILE [--shard I/N]`, `merge SHARD_DIR…`, `bench NAME|FILE`.
+//! Command line: `list`, `experiment NAME|FILE [--shard I/N]`, `merge SHARD_DIR…`, `bench NAME|FILE`,
+//! `compare OLD NEW`.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -65,6 +66,24 @@ enum Command {
         name: String,
         #[command(flatten)]
         opts: RunOpts,
+    },
+    /// What changed between two result folders of the same experiment: deterministic columns within
+    /// a relative tolerance, Monte Carlo means by a two-sample z with Holm's procedure. Exit status 0
+    /// when nothing changed beyond noise, 1 when something did, 2 for bad input.
+    Compare {
+        /// The earlier result folder (the baseline).
+        old: PathBuf,
+        /// The later result folder.
+        new: PathBuf,
+        /// Family-wise false-alarm rate of the Monte Carlo cells (split by Holm's procedure).
+        #[arg(long, default_value_t = filterbench::verdict::compare::DEFAULT_ALPHA)]
+        alpha: f64,
+        /// Relative tolerance of deterministic columns (design, exact, guaranteed, gains, …).
+        #[arg(long, default_value_t = filterbench::verdict::compare::DEFAULT_REL_TOL)]
+        rel_tol: f64,
+        /// Also write every cell that moved, with the column summaries, as JSON to this file.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
     },
 }
 
@@ -141,7 +160,7 @@ fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     b.build().map_err(|e| filterbench::Error::invalid("--threads", e.to_string()))
 }
 
-fn main_inner(cli: Cli) -> Result<()> {
+fn main_inner(cli: Cli) -> Result<ExitCode> {
     match cli.command {
         Command::List => {
             let list = list_experiments();
@@ -209,13 +228,23 @@ fn main_inner(cli: Cli) -> Result<()> {
                 print!("{}", p.install(|| pipeline::bench::run(&exp))?);
             }
         }
+        Command::Compare { old, new, alpha, rel_tol, json } => {
+            use filterbench::verdict::compare;
+            let opts = compare::CompareOptions { alpha, rel_tol, keep_identical: false };
+            let c = compare::compare_folders(&old, &new, &opts)?;
+            if let Some(path) = json {
+                compare::json(&c, &path)?;
+            }
+            print!("{}", compare::console(&c));
+            return Ok(if c.changed() { ExitCode::from(1) } else { ExitCode::SUCCESS });
+        }
     }
-    Ok(())
+    Ok(ExitCode::SUCCESS)
 }
 
 fn main() -> ExitCode {
     match main_inner(Cli::parse()) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             // One line, whatever a library put into its message.
             eprintln!("error: {}", e.to_string().trim().replace('\n', "; "));

@@ -42,7 +42,7 @@ if len(ARGS) > 1 or any(a.startswith("-") for a in ARGS):
     sys.exit(2)
 SRC = pathlib.Path(ARGS[0] if ARGS else "src")
 # The layers in order: a module may import only from modules before it (docs/architecture.md).
-LAYERS = ["error", "numerics", "model", "filter", "analysis", "families", "sim", "config", "pipeline", "report"]
+LAYERS = ["error", "numerics", "model", "filter", "analysis", "families", "sim", "config", "pipeline", "report", "verdict"]
 MAX_LINES = 500
 IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
 # A path in code: `a::b::c`, not preceded by `::`, `$` (macro `$crate`) or an identifier character.

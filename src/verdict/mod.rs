@@ -1,0 +1,6 @@
+//! `filterbench check`: the expectations of an experiment file evaluated on its result tables,
+//! with one family-wise false-alarm rate split over every tested cell by Holm's procedure and the
+//! power of every test stated (docs/checks.md).
+
+pub mod compare;
+pub mod stats;
