@@ -112,6 +112,7 @@ const STEPS_COLUMNS: [&str; 15] = [
     "mse_mean",
     "mse_ci_low",
     "mse_ci_high",
+    "mse_std_error",
     "exact_mse",
     "bound",
     "claimed",
@@ -119,6 +120,8 @@ const STEPS_COLUMNS: [&str; 15] = [
     "nees_mean",
     "nees_ci_low",
     "nees_ci_high",
+    "nees_std_error",
+    "nees_rank",
 ];
 
 fn names(df: &DataFrame) -> Vec<String> {
