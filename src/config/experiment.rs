@@ -120,6 +120,10 @@ pub struct Experiment {
     /// The array files the experiment file references, in the order read (docs/experiment-files.md,
     /// "Matrices from files").
     pub inputs: Vec<super::FileInput>,
+    /// The `[[expect]]` entries `filterbench check` tests, in file order (docs/checks.md).
+    pub expectations: Vec<super::Expectation>,
+    /// The `[check]` table's defaults.
+    pub check: super::CheckSettings,
 }
 
 impl Experiment {

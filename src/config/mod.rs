@@ -3,6 +3,7 @@
 //! Every key is documented in docs/experiment-files.md.
 
 mod disturbance;
+mod expect;
 mod experiment;
 mod files;
 mod formats;
@@ -18,6 +19,7 @@ use serde::Deserialize;
 use crate::error::{Error, Result};
 pub use crate::model::choice::CovChoice;
 pub use crate::model::plant::Pattern;
+pub use expect::{CheckSettings, Expectation, check_max_trials, check_min_detectable, check_probability};
 pub use experiment::{
     Experiment, FilterSpec, Input, InputChoice, MAX_TRIALS, Overrides, Scenario, check_name, check_trials, sample_count,
 };

@@ -147,6 +147,8 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
         }
     }
     check_scenarios_before_design(&plant, &nominal, &scenarios)?;
+    let expectations = super::expect::expectations(std::mem::take(&mut f.expect), &scenarios, &filters)?;
+    let check = super::expect::settings(f.check.take())?;
     // The command line's values, checked by the same rule as the file's but named by their flag.
     let trials = match overrides.trials {
         Some(t) => check_trials("--trials", t).map(|_| t)?,
@@ -172,6 +174,8 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
         source: text.to_string(),
         string: None,
         inputs: Vec::new(),
+        expectations,
+        check,
     })
 }
 
