@@ -5,7 +5,7 @@
 
 use serde::Deserialize;
 
-use super::experiment::{MAX_TRIALS, Scenario};
+use super::experiment::{CheckSettings, Expectation};
 use crate::error::{Error, Result};
 
 /// `[[expect]]` as written.
@@ -28,26 +28,6 @@ pub(super) struct CheckFile {
     max_trials: Option<usize>,
 }
 
-/// One `[[expect]]` entry: its kind, the scenarios and filters it names (None: every one the kind
-/// applies to) and the kind's own parameters, read by the kind.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Expectation {
-    pub kind: String,
-    pub scenarios: Option<Vec<String>>,
-    pub filters: Option<Vec<String>>,
-    pub params: toml::Table,
-}
-
-/// The `[check]` table: defaults for `check`'s `--alpha`, `--beta`, `--min-detectable` and
-/// `--max-trials` (the command line wins).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct CheckSettings {
-    pub alpha: Option<f64>,
-    pub beta: Option<f64>,
-    pub min_detectable: Option<f64>,
-    pub max_trials: Option<usize>,
-}
-
 /// A probability strictly between 0 and 1 (a test level or a miss rate).
 pub fn check_probability(key: &str, v: f64) -> Result<()> {
     if !(v > 0.0 && v < 1.0) {
@@ -64,14 +44,6 @@ pub fn check_min_detectable(key: &str, v: f64) -> Result<()> {
     Ok(())
 }
 
-/// A cap on the trials `min_detectable` may choose.
-pub fn check_max_trials(key: &str, v: usize) -> Result<()> {
-    if !(2..=MAX_TRIALS).contains(&v) {
-        return Err(Error::invalid(key, format!("must be between 2 and {MAX_TRIALS}, got {v}")));
-    }
-    Ok(())
-}
-
 pub(super) fn settings(c: Option<CheckFile>) -> Result<CheckSettings> {
     let Some(c) = c else { return Ok(CheckSettings::default()) };
     if let Some(a) = c.alpha {
@@ -84,17 +56,13 @@ pub(super) fn settings(c: Option<CheckFile>) -> Result<CheckSettings> {
         check_min_detectable("check.min_detectable", d)?;
     }
     if let Some(t) = c.max_trials {
-        check_max_trials("check.max_trials", t)?;
+        super::experiment::check_max_trials("check.max_trials", t)?;
     }
     Ok(CheckSettings { alpha: c.alpha, beta: c.beta, min_detectable: c.min_detectable, max_trials: c.max_trials })
 }
 
 /// Checks the names every entry gives against the experiment's scenarios and filters.
-pub(super) fn expectations(
-    raw: Vec<ExpectFile>,
-    scenarios: &[Scenario],
-    filters: &[super::FilterSpec],
-) -> Result<Vec<Expectation>> {
+pub(super) fn expectations(raw: Vec<ExpectFile>, known_s: &[&str], known_f: &[&str]) -> Result<Vec<Expectation>> {
     raw.into_iter()
         .enumerate()
         .map(|(i, e)| {
@@ -102,10 +70,8 @@ pub(super) fn expectations(
             if e.kind.is_empty() {
                 return Err(Error::invalid(key("kind"), "is empty"));
             }
-            let known_s: Vec<&str> = scenarios.iter().map(|s| s.name.as_str()).collect();
-            let known_f: Vec<&str> = filters.iter().map(|f| f.name.as_str()).collect();
-            names(&key("scenarios"), e.scenarios.as_deref(), &known_s, "scenario")?;
-            names(&key("filters"), e.filters.as_deref(), &known_f, "filter")?;
+            names(&key("scenarios"), e.scenarios.as_deref(), known_s, "scenario")?;
+            names(&key("filters"), e.filters.as_deref(), known_f, "filter")?;
             Ok(Expectation { kind: e.kind, scenarios: e.scenarios, filters: e.filters, params: e.params })
         })
         .collect()

@@ -19,9 +19,10 @@ use serde::Deserialize;
 use crate::error::{Error, Result};
 pub use crate::model::choice::CovChoice;
 pub use crate::model::plant::Pattern;
-pub use expect::{CheckSettings, Expectation, check_max_trials, check_min_detectable, check_probability};
+pub use expect::{check_min_detectable, check_probability};
 pub use experiment::{
-    Experiment, FilterSpec, Input, InputChoice, MAX_TRIALS, Overrides, Scenario, check_name, check_trials, sample_count,
+    CheckSettings, Expectation, Experiment, FilterSpec, Input, InputChoice, MAX_TRIALS, Overrides, Scenario,
+    check_max_trials, check_name, check_trials, sample_count,
 };
 pub use files::FileInput;
 use resolve::{deserialize, resolve_file};

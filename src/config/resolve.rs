@@ -147,7 +147,9 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
         }
     }
     check_scenarios_before_design(&plant, &nominal, &scenarios)?;
-    let expectations = super::expect::expectations(std::mem::take(&mut f.expect), &scenarios, &filters)?;
+    let (known_s, known_f): (Vec<&str>, Vec<&str>) =
+        (scenarios.iter().map(|s| s.name.as_str()).collect(), filters.iter().map(|f| f.name.as_str()).collect());
+    let expectations = super::expect::expectations(std::mem::take(&mut f.expect), &known_s, &known_f)?;
     let check = super::expect::settings(f.check.take())?;
     // The command line's values, checked by the same rule as the file's but named by their flag.
     let trials = match overrides.trials {
