@@ -202,8 +202,15 @@ pub fn build<K: Kind>(i: usize, e: &Expectation, exp: &Experiment) -> crate::Res
     use crate::Error;
     let p: K::Params = serde_path_to_error::deserialize(toml::Value::Table(e.params.clone())).map_err(|err| {
         let path = err.path().to_string();
-        let key = if path == "." { format!("expect[{i}]") } else { format!("expect[{i}].{path}") };
-        Error::invalid(key, format!("{} ({})", err.inner().to_string().trim(), K::NAME))
+        let message = err.inner().to_string();
+        // serde names an unknown key in its message, at the path of the table that holds it.
+        let unknown = message.strip_prefix("unknown field `").and_then(|m| m.split('`').next());
+        let key = match (path.as_str(), unknown) {
+            (".", Some(k)) => format!("expect[{i}].{k}"),
+            (".", None) => format!("expect[{i}]"),
+            (p, _) => format!("expect[{i}].{p}"),
+        };
+        Error::invalid(key, format!("{} (kind `{}`)", message.trim(), K::NAME))
     })?;
     K::check(&p, e, exp).map_err(|(key, cause)| Error::invalid(format!("expect[{i}].{key}"), cause))?;
     Ok(Box::new(With::<K>(p)))

@@ -103,7 +103,7 @@ const SUMMARY_COLUMNS: [&str; 46] = [
     "mc_seconds",
 ];
 
-const STEPS_COLUMNS: [&str; 15] = [
+const STEPS_COLUMNS: [&str; 18] = [
     "experiment",
     "variant",
     "scenario",
