@@ -54,10 +54,14 @@ pub fn describe(c: &Cell) -> String {
     match (&t.method, c.p, c.holm_threshold) {
         (Method::NotApplicable(why), _, _) => format!("{head}: not applicable: {why}"),
         (Method::Certain { .. }, _, _) => format!("{head} (no sampling error)"),
-        (_, Some(p), Some(h)) => format!("{head}: {}, p = {p:.3e} vs Holm threshold {h:.3e}", statistic(c)),
+        (Method::Z(_), Some(p), Some(h)) => format!("{head}: {}, p = {p:.3e} vs Holm threshold {h:.3e}", statistic(c)),
+        (_, Some(p), Some(h)) => format!("{head}: χ² p = {p:.3e} vs Holm threshold {h:.3e}"),
         _ => head,
     }
 }
+
+/// The failing cells listed per expectation below the table (all are in check.parquet).
+const SHOWN: usize = 10;
 
 /// The console table: one row per expectation with its worst cell (the smallest p, or a failing
 /// count), its power (the largest detectable discrepancy over its cells, relative where every cell
@@ -107,8 +111,12 @@ pub fn table(check: &Check) -> String {
             power,
             check.verdict(i).name().to_string(),
         ]);
-        for c in cells.iter().filter(|c| c.verdict == Verdict::Fails) {
+        let failing: Vec<&&Cell> = cells.iter().filter(|c| c.verdict == Verdict::Fails).collect();
+        for c in failing.iter().take(SHOWN) {
             notes += &format!("  expect[{i}] {kind} fails: {}\n", describe(c));
+        }
+        if failing.len() > SHOWN {
+            notes += &format!("  expect[{i}] {kind}: {} more failing cells in {CHECK_FILE}\n", failing.len() - SHOWN);
         }
         let mut reasons: Vec<&str> = cells
             .iter()

@@ -75,7 +75,7 @@ impl Kind for Better {
             let label = format!("{} vs {}", p.a, p.b);
             let row = (&r.variant, r.scenario.as_str(), label.as_str(), None);
             let d = sign * r.mean_diff;
-            out.push(z_test(row, "J_a − J_b ≤ −margin", d, -margin, r.std_error, exact_b, Sided::Upper, na));
+            out.push(z_test(row, "J_a − J_b ≤ −margin", d, 0.0 - margin, r.std_error, exact_b, Sided::Upper, na));
         }
         out
     }

@@ -4,6 +4,7 @@
 
 mod calibration;
 mod cli;
+mod shipped;
 mod stats;
 
 use filterbench::config::{self, Experiment};
