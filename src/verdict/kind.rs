@@ -87,7 +87,7 @@ impl Context<'_> {
         Some((e, e.scenarios.iter().find(|s| s.name == name)?))
     }
     /// Why a mean of this scenario's trials may have no finite variance, so the central limit
-    /// theorem gives no z-test (docs/checks.md, "Assumptions"): the error is quadratic in the noise,
+    /// theorem gives no z-test (docs/checks.md, "Heavy tails"): the error is quadratic in the noise,
     /// so it needs the noise's fourth moment; Student-t has it only for ν > 4. None when it holds.
     pub fn heavy_tails(&self, variant: Option<&str>, scenario: &str) -> Option<String> {
         let (e, s) = self.scenario(variant, scenario)?;
