@@ -105,7 +105,7 @@ pub fn tests(
     let mut out = Vec::new();
     for (i, (k, e)) in configured.iter().zip(expectations).enumerate() {
         let cx = Context { exps, tables, sel: Selection::of(e) };
-        let tests = k.tests(&cx);
+        let tests = k.tests(&cx)?;
         let why = |what: &str| format!("kind `{}` applies to no {what} of this result", k.kind());
         for (key, names, of) in [
             ("filters", e.filters.as_deref(), &|t: &Test| t.filter.clone() as String),

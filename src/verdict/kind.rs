@@ -137,8 +137,9 @@ pub trait Kind: 'static {
         Ok(())
     }
     /// The cells the expectation tests in these tables (the cells that apply to it; a named cell
-    /// whose assumptions fail is a `NotApplicable` test).
-    fn tests(p: &Self::Params, cx: &Context) -> Vec<Test>;
+    /// whose assumptions fail is a `NotApplicable` test). An error (a file a kind reads itself, such
+    /// as a baseline folder, that cannot be read) names its key and refuses the check, exit 2.
+    fn tests(p: &Self::Params, cx: &Context) -> crate::Result<Vec<Test>>;
 }
 
 /// A z-test cell, or `NotApplicable` when there is no spread to test against (every trial equal).
@@ -177,7 +178,7 @@ pub fn z_test(
 /// A kind with its parameters read: what the registry hands on.
 pub trait Configured: Send + Sync + std::fmt::Debug {
     fn kind(&self) -> &'static str;
-    fn tests(&self, cx: &Context) -> Vec<Test>;
+    fn tests(&self, cx: &Context) -> crate::Result<Vec<Test>>;
 }
 
 struct With<K: Kind>(K::Params);
@@ -192,7 +193,7 @@ impl<K: Kind> Configured for With<K> {
     fn kind(&self) -> &'static str {
         K::NAME
     }
-    fn tests(&self, cx: &Context) -> Vec<Test> {
+    fn tests(&self, cx: &Context) -> crate::Result<Vec<Test>> {
         K::tests(&self.0, cx)
     }
 }

@@ -32,7 +32,7 @@ impl Kind for AgreesWithExact {
     const NAME: &'static str = "agrees_with_exact";
     type Params = Params;
 
-    fn tests(p: &Params, cx: &Context) -> Vec<Test> {
+    fn tests(p: &Params, cx: &Context) -> crate::Result<Vec<Test>> {
         let mut out = Vec::new();
         if p.per != Per::Step {
             for r in cx.tables.summary.iter().filter(|r| cx.sel.both(&r.scenario, &r.filter)) {
@@ -51,6 +51,6 @@ impl Kind for AgreesWithExact {
                 out.push(z_test(row, "step mean vs exact", m, exact, se, Some(exact), Sided::TwoSided, heavy));
             }
         }
-        out
+        Ok(out)
     }
 }

@@ -48,7 +48,7 @@ impl Kind for Better {
         }
     }
 
-    fn tests(p: &Params, cx: &Context) -> Vec<Test> {
+    fn tests(p: &Params, cx: &Context) -> crate::Result<Vec<Test>> {
         let mut out = Vec::new();
         for r in cx.tables.paired.iter().filter(|r| cx.sel.scenario(&r.scenario)) {
             let sign = if (r.filter_a.as_str(), r.filter_b.as_str()) == (p.a.as_str(), p.b.as_str()) {
@@ -77,6 +77,6 @@ impl Kind for Better {
             let d = sign * r.mean_diff;
             out.push(z_test(row, "J_a − J_b ≤ −margin", d, 0.0 - margin, r.std_error, exact_b, Sided::Upper, na));
         }
-        out
+        Ok(out)
     }
 }

@@ -26,7 +26,7 @@ impl Kind for Consistent {
     const NAME: &'static str = "consistent";
     type Params = Params;
 
-    fn tests(_p: &Params, cx: &Context) -> Vec<Test> {
+    fn tests(_p: &Params, cx: &Context) -> crate::Result<Vec<Test>> {
         let mut out = Vec::new();
         for r in cx.tables.steps.iter().filter(|r| cx.sel.both(&r.scenario, &r.filter)) {
             let (Some(nees), Some(se)) = (r.nees_mean, r.nees_std_error) else { continue };
@@ -47,6 +47,6 @@ impl Kind for Consistent {
             }
             out.push(t);
         }
-        out
+        Ok(out)
     }
 }

@@ -22,7 +22,7 @@ impl Kind for WithinGuarantee {
     const NAME: &'static str = "within_guarantee";
     type Params = Params;
 
-    fn tests(_p: &Params, cx: &Context) -> Vec<Test> {
+    fn tests(_p: &Params, cx: &Context) -> crate::Result<Vec<Test>> {
         let mut out = Vec::new();
         let mut designs_seen = std::collections::BTreeSet::new();
         for r in cx.tables.summary.iter().filter(|r| cx.sel.both(&r.scenario, &r.filter)) {
@@ -65,6 +65,6 @@ impl Kind for WithinGuarantee {
                 }
             }
         }
-        out
+        Ok(out)
     }
 }
