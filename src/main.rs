@@ -1,5 +1,5 @@
 //! Command line: `list`, `experiment NAME|FILE [--shard I/N]`, `merge SHARD_DIR…`, `bench NAME|FILE`,
-//! `compare OLD NEW`.
+//! `compare OLD NEW`, `check NAME|FILE`.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -60,6 +60,9 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Run an experiment (or read a result folder) and test its `[[expect]]` entries at a designed
+    /// false-alarm rate: exit 0 when every one holds, 1 when one fails, 2 for bad input.
+    Check(CheckArgs),
     /// Measure throughput per scenario (trial-steps/s) and one thread's split: drawing, simulation, statistics.
     Bench {
         /// Experiment name or path to a TOML file.
@@ -85,6 +88,38 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// Experiment name or path to a TOML file (its `[[expect]]` entries); with --results, optional.
+    name: Option<String>,
+    /// Evaluate an existing result folder instead of running (its manifest names the experiment).
+    #[arg(long)]
+    results: Option<PathBuf>,
+    /// Family-wise false-alarm rate, split over every tested cell by Holm's procedure (default 1e-3).
+    #[arg(long)]
+    alpha: Option<f64>,
+    /// Miss rate at which each test's power is stated (default 0.05).
+    #[arg(long)]
+    beta: Option<f64>,
+    /// Choose the trial count so every cell detects this relative discrepancy with probability 1 − β.
+    #[arg(long)]
+    min_detectable: Option<f64>,
+    /// The most trials --min-detectable may choose (default 10⁸).
+    #[arg(long)]
+    max_trials: Option<usize>,
+    /// Write a JUnit XML report (one test case per cell) to this file.
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    #[command(flatten)]
+    opts: RunOpts,
+    /// Output folder (default: results/NAME); replaced only when the run completes.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Do not print the progress bar or the table.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(clap::Args)]
@@ -172,6 +207,7 @@ fn main_inner(cli: Cli) -> Result<ExitCode> {
         Command::Experiment { name, opts, out, quiet, shard, per_trial } => {
             let overrides = opts.overrides(per_trial);
             let exps = load(&name, &overrides)?;
+            filterbench::verdict::evaluate::configure(&exps[0])?;
             let shard = shard.as_deref().map(shards::parse_shard).transpose()?;
             let default = match shard {
                 Some((i, n)) => format!("{}-shard-{i}-of-{n}", exps[0].name),
@@ -220,6 +256,7 @@ fn main_inner(cli: Cli) -> Result<ExitCode> {
                 println!("\nresults: {}", out.display());
             }
         }
+        Command::Check(args) => return check(args),
         Command::Bench { name, opts } => {
             let p = pool(opts.threads)?;
             let exps = load(&name, &opts.overrides(false))?;
@@ -240,6 +277,128 @@ fn main_inner(cli: Cli) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The most trials `--min-detectable` chooses without `--max-trials` or `[check] max_trials`.
+const DEFAULT_MAX_TRIALS: usize = 100_000_000;
+
+/// Trials of the pilot run `--min-detectable` estimates the per-trial spread from (unless --trials).
+const PILOT_TRIALS: usize = 1000;
+
+/// `filterbench check`: run the experiment (or read `--results`), evaluate every expectation on the
+/// written tables, write check.parquet beside them (and the JUnit report), print the table.
+fn check(a: CheckArgs) -> Result<ExitCode> {
+    use filterbench::Error;
+    use filterbench::verdict::{output, run};
+    if let Some(dir) = &a.results {
+        for (flag, given) in [
+            ("--trials", a.opts.trials.is_some()),
+            ("--seed", a.opts.seed.is_some()),
+            ("--out", a.out.is_some()),
+            ("--min-detectable", a.min_detectable.is_some()),
+        ] {
+            if given {
+                return Err(Error::invalid(
+                    flag,
+                    "does not apply with --results (the folder's run is checked as it is)",
+                ));
+            }
+        }
+        let mut exps = run::experiments_of(dir)?;
+        if let Some(name) = &a.name {
+            // The expectations of the file given, against the experiment the folder ran.
+            let file = load(name, &Overrides::default())?;
+            if file[0].name != exps[0].name {
+                return Err(Error::invalid(
+                    "--results",
+                    format!("{} holds a result of `{}`, not of `{}`", dir.display(), exps[0].name, file[0].name),
+                ));
+            }
+            for e in &mut exps {
+                (e.expectations, e.check) = (file[0].expectations.clone(), file[0].check.clone());
+            }
+        }
+        let rates = run::rates(a.alpha, a.beta, &exps[0].check)?;
+        let result = run::evaluate_folder(dir, &exps, rates)?;
+        output::write_parquet(&result, &exps[0].name, &dir.join(output::CHECK_FILE))?;
+        return finish(&a, &result, &exps[0].name, dir);
+    }
+    let name = a.name.as_deref().ok_or_else(|| Error::invalid("check", "name an experiment or give --results DIR"))?;
+    let mut exps = load(name, &a.opts.overrides(false))?;
+    let configured = filterbench::verdict::evaluate::configure(&exps[0])?;
+    if configured.is_empty() {
+        return Err(Error::invalid("expect", format!("`{name}` has no [[expect]] entries: nothing to check")));
+    }
+    let rates = run::rates(a.alpha, a.beta, &exps[0].check)?;
+    let pool = pool(a.opts.threads)?;
+    let min_detectable = a.min_detectable.or(exps[0].check.min_detectable);
+    if let Some(delta) = min_detectable {
+        config::check_min_detectable("--min-detectable", delta)?;
+        let cap = a.max_trials.or(exps[0].check.max_trials).unwrap_or(DEFAULT_MAX_TRIALS);
+        config::check_max_trials("--max-trials", cap)?;
+        let pilot_trials = a.opts.trials.unwrap_or(exps[0].trials.min(PILOT_TRIALS));
+        let pilot = load(name, &Overrides { trials: Some(pilot_trials), ..a.opts.overrides(false) })?;
+        filterbench::pipeline::budget::check(&pilot)?;
+        let dir = std::env::temp_dir().join(format!("filterbench-pilot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        let piloted = (|| {
+            let outcomes =
+                pilot.iter().map(|e| pool.install(|| pipeline::run(e, false))).collect::<Result<Vec<_>>>()?;
+            let runs: Vec<_> = pilot.iter().zip(&outcomes).collect();
+            report::parquet::write_tables(&runs, &dir)?;
+            run::evaluate_folder(&dir, &pilot, rates)
+        })();
+        let _ = std::fs::remove_dir_all(&dir);
+        let n = filterbench::verdict::evaluate::trials_for(&piloted?, pilot_trials, delta).ok_or_else(|| {
+            Error::invalid("--min-detectable", "no tested cell has an exact value or bound to be relative to")
+        })?;
+        if n > cap as f64 {
+            return Err(Error::invalid(
+                "--min-detectable",
+                format!(
+                    "detecting {delta} (relative) needs {n:.0} trials, more than the limit of {cap} (--max-trials)"
+                ),
+            ));
+        }
+        let n = (n as usize).max(2);
+        if !a.quiet {
+            println!("min_detectable {delta}: the pilot run of {pilot_trials} trials asks for {n} trials");
+        }
+        exps = load(name, &Overrides { trials: Some(n), ..a.opts.overrides(false) })?;
+    }
+    filterbench::pipeline::budget::check(&exps)?;
+    let target = a.out.clone().unwrap_or_else(|| PathBuf::from("results").join(&exps[0].name));
+    let command_line = CommandLine {
+        trials: if min_detectable.is_some() { Some(exps[0].trials) } else { a.opts.trials },
+        seed: a.opts.seed,
+        threads: a.opts.threads,
+        out: a.out.as_ref().map(|p| p.display().to_string()),
+    };
+    let mut result = None;
+    publish(&target, |dir| {
+        let outcomes = exps.iter().map(|e| pool.install(|| pipeline::run(e, !a.quiet))).collect::<Result<Vec<_>>>()?;
+        let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
+        report_runs(&runs, dir, &command_line, true)?;
+        let r = run::evaluate_folder(dir, &exps, rates)?;
+        output::write_parquet(&r, &exps[0].name, &dir.join(output::CHECK_FILE))?;
+        result = Some(r);
+        Ok(())
+    })?;
+    let result = result.expect("publish ran the check");
+    finish(&a, &result, &exps[0].name, &target)
+}
+
+/// The JUnit report and the table of a finished check, and its exit code: 1 when an expectation fails.
+fn finish(a: &CheckArgs, result: &filterbench::verdict::evaluate::Check, name: &str, dir: &Path) -> Result<ExitCode> {
+    use filterbench::verdict::output;
+    if let Some(path) = &a.junit {
+        output::write_junit(result, name, path)?;
+    }
+    if !a.quiet {
+        print!("{}", output::table(result));
+        println!("\nresults: {} (check: {})", dir.display(), output::CHECK_FILE);
+    }
+    Ok(if result.fails() { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
 fn main() -> ExitCode {

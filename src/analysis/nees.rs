@@ -63,15 +63,23 @@ pub fn error_moments(
     Ok(m)
 }
 
+/// The rank of a claimed error second moment P_z\[k], counted as [`weights`] and
+/// [`crate::numerics::linalg::psd_pinv`] count it (eigenvalues above `PSD_TOL` of the largest):
+/// the degrees of freedom r of e\[k]ᵀ P_z⁺ e\[k], χ²(r) for a Gaussian error of that covariance
+/// (docs/checks.md, `consistent`).
+pub fn rank(p: &Mat) -> usize {
+    let eig = nalgebra::SymmetricEigen::new(crate::numerics::linalg::symmetrize(p));
+    let top = eig.eigenvalues.amax();
+    eig.eigenvalues.iter().filter(|l| **l > PSD_TOL * top && **l > 0.0).count()
+}
+
 /// The NEES weight of each step, P_z⁺ / rank P_z, from the claimed moments; None where the filter
 /// claims no error at all (then the ratio means nothing).
 pub fn weights(claimed: &[Mat]) -> Vec<Option<Mat>> {
     claimed
         .iter()
         .map(|p| {
-            let eig = nalgebra::SymmetricEigen::new(crate::numerics::linalg::symmetrize(p));
-            let top = eig.eigenvalues.amax();
-            let rank = eig.eigenvalues.iter().filter(|l| **l > PSD_TOL * top && **l > 0.0).count();
+            let rank = rank(p);
             (rank > 0).then(|| crate::numerics::linalg::psd_pinv(p) / rank as f64)
         })
         .collect()

@@ -120,6 +120,10 @@ pub struct Experiment {
     /// The array files the experiment file references, in the order read (docs/experiment-files.md,
     /// "Matrices from files").
     pub inputs: Vec<super::FileInput>,
+    /// The `[[expect]]` entries `filterbench check` tests, in file order (docs/checks.md).
+    pub expectations: Vec<Expectation>,
+    /// The `[check]` table's defaults.
+    pub check: CheckSettings,
 }
 
 impl Experiment {
@@ -191,6 +195,34 @@ pub fn check_trials(key: &str, trials: usize) -> Result<()> {
         return Err(Error::invalid(key, format!("{trials} trials is more than the limit of {MAX_TRIALS} (10¹²)")));
     }
     Ok(())
+}
+
+/// A cap on the trials `min_detectable` may choose.
+pub fn check_max_trials(key: &str, v: usize) -> Result<()> {
+    if !(2..=MAX_TRIALS).contains(&v) {
+        return Err(Error::invalid(key, format!("must be between 2 and {MAX_TRIALS}, got {v}")));
+    }
+    Ok(())
+}
+
+/// One `[[expect]]` entry: its kind, the scenarios and filters it names (None: every one the kind
+/// applies to) and the kind's own parameters, read by the kind.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Expectation {
+    pub kind: String,
+    pub scenarios: Option<Vec<String>>,
+    pub filters: Option<Vec<String>>,
+    pub params: toml::Table,
+}
+
+/// The `[check]` table: defaults for `check`'s `--alpha`, `--beta`, `--min-detectable` and
+/// `--max-trials` (the command line wins).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CheckSettings {
+    pub alpha: Option<f64>,
+    pub beta: Option<f64>,
+    pub min_detectable: Option<f64>,
+    pub max_trials: Option<usize>,
 }
 
 /// The one rule for `sample_trajectories`: at most one per trial, so a value above the trial count

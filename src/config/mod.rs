@@ -3,6 +3,7 @@
 //! Every key is documented in docs/experiment-files.md.
 
 mod disturbance;
+mod expect;
 mod experiment;
 mod files;
 mod formats;
@@ -19,8 +20,10 @@ use serde::Deserialize;
 use crate::error::{Error, Result};
 pub use crate::model::choice::CovChoice;
 pub use crate::model::plant::Pattern;
+pub use expect::{check_min_detectable, check_probability};
 pub use experiment::{
-    Experiment, FilterSpec, Input, InputChoice, MAX_TRIALS, Overrides, Scenario, check_name, check_trials, sample_count,
+    CheckSettings, Expectation, Experiment, FilterSpec, Input, InputChoice, MAX_TRIALS, Overrides, Scenario,
+    check_max_trials, check_name, check_trials, sample_count,
 };
 pub use files::FileInput;
 use resolve::{deserialize, resolve_file};

@@ -147,6 +147,10 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
         }
     }
     check_scenarios_before_design(&plant, &nominal, &scenarios)?;
+    let (known_s, known_f): (Vec<&str>, Vec<&str>) =
+        (scenarios.iter().map(|s| s.name.as_str()).collect(), filters.iter().map(|f| f.name.as_str()).collect());
+    let expectations = super::expect::expectations(std::mem::take(&mut f.expect), &known_s, &known_f)?;
+    let check = super::expect::settings(f.check.take())?;
     // The command line's values, checked by the same rule as the file's but named by their flag.
     let trials = match overrides.trials {
         Some(t) => check_trials("--trials", t).map(|_| t)?,
@@ -172,6 +176,8 @@ fn resolve(name: &str, mut f: ExperimentFile, text: &str, overrides: &Overrides)
         source: text.to_string(),
         string: None,
         inputs: Vec::new(),
+        expectations,
+        check,
     })
 }
 

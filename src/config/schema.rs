@@ -43,6 +43,11 @@ pub(super) struct ExperimentFile {
     /// Families of filters over a grid of parameter values, expanded into `filters`.
     #[serde(default)]
     pub(super) filter_sweeps: Vec<SweepFile>,
+    /// What `filterbench check` tests (docs/checks.md).
+    #[serde(default)]
+    pub(super) expect: Vec<super::expect::ExpectFile>,
+    /// `check`'s defaults.
+    pub(super) check: Option<super::expect::CheckFile>,
     /// Patches of this file, each run as its own variant (read by [`load_variants`]).
     #[serde(default)]
     #[allow(dead_code)]

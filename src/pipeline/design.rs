@@ -27,6 +27,8 @@ pub struct DesignedFilter {
     pub claimed: Option<Claimed>,
     /// Its NEES weight per step, P_z\[k]⁺ / rank, where it claims a covariance ([`crate::analysis::nees`]).
     pub nees_weights: Option<Vec<Option<Mat>>>,
+    /// The rank of its claimed P_z\[k] per step (0 where it claims no error), beside `nees_weights`.
+    pub nees_ranks: Option<Vec<usize>>,
     /// Its generalized H2 norm² under the nominal weights ([`crate::analysis::hinf::generalized_h2_norm_sq`]);
     /// None on a switching plant or when the stacked operator would be too large.
     pub generalized_h2_sq: Option<f64>,
@@ -96,20 +98,17 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             };
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
             let claimed = Claimed::of(&exp.plant, &design);
-            let nees_weights = match (&claimed, &design.design_covariance) {
-                (Some(_), _) if design.claimed_error.is_some() => {
-                    design.claimed_error.as_deref().map(crate::analysis::nees::weights)
-                }
+            let claimed_moments = match (&claimed, &design.design_covariance) {
+                (Some(_), _) if design.claimed_error.is_some() => design.claimed_error.clone(),
                 (Some(_), Some(cov)) => {
                     let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
-                    Some(crate::analysis::nees::weights(&crate::analysis::nees::error_moments(
-                        &exp.plant,
-                        &design.realization,
-                        &at_design,
-                    )?))
+                    Some(crate::analysis::nees::error_moments(&exp.plant, &design.realization, &at_design)?)
                 }
                 _ => None,
             };
+            let nees_weights = claimed_moments.as_deref().map(crate::analysis::nees::weights);
+            let nees_ranks =
+                claimed_moments.as_ref().map(|m| m.iter().map(crate::analysis::nees::rank).collect::<Vec<_>>());
             let generalized_h2_sq = generalized_h2(exp, &design.realization)?;
             Ok(DesignedFilter {
                 design,
@@ -119,6 +118,7 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
                 deterministic_error,
                 claimed,
                 nees_weights,
+                nees_ranks,
                 generalized_h2_sq,
             })
         })

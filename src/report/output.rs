@@ -23,11 +23,14 @@ const STAGING_MARKER: &str = ".filterbench-staging";
 /// limit on a file name of every common file system.
 pub(crate) const MAX_NAME_BYTES: usize = 255 - ".".len() - ".tmp-".len() - 10;
 
-/// The files a result folder holds: the tables, the manifest and the recording; or a shard's
-/// partial result ([`partial`]).
+/// The cell table `filterbench check` writes beside a result's tables (docs/checks.md).
+pub const CHECK_FILE: &str = "check.parquet";
+
+/// The files a result folder holds: the tables, the manifest, the recording and check's cell
+/// table; or a shard's partial result ([`partial`]).
 pub(crate) fn result_files() -> Vec<&'static str> {
     let mut v: Vec<&str> = super::parquet::TABLES.iter().map(|(f, _)| *f).collect();
-    v.extend([MANIFEST, "recording.rrd", partial::META, partial::NODES]);
+    v.extend([MANIFEST, "recording.rrd", CHECK_FILE, partial::META, partial::NODES]);
     v
 }
 

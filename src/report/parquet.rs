@@ -278,10 +278,12 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
     let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound, mut claimed) =
         (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
     let (mut nees_ex, mut nees_mean, mut nees_lo, mut nees_hi) = (vec![], vec![], vec![], vec![]);
+    let (mut se, mut nees_se, mut nees_rank) = (vec![], vec![], vec![]);
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
             let promise = sc.filters[f].promise.as_ref();
             let cl = out.filters[f].claimed.as_ref();
+            let ranks = out.filters[f].nees_ranks.as_ref();
             for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
                 let (l, h) = w.ci95();
                 sc_.push(sc.name.clone());
@@ -290,6 +292,7 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
                 mean.push(w.mean);
                 lo.push(l);
                 hi.push(h);
+                se.push(w.std_error());
                 ex.push(Some(sc.exact[f].per_step[k]));
                 bound.push(promise.and_then(|p| p.bound(k)));
                 claimed.push(cl.and_then(|c| c.per_step.get(k).copied()));
@@ -298,6 +301,8 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
                 nees_mean.push(nw.map(|w| w.mean));
                 nees_lo.push(nw.map(|w| w.ci95().0));
                 nees_hi.push(nw.map(|w| w.ci95().1));
+                nees_se.push(nw.map(|w| w.std_error()));
+                nees_rank.push(nw.and(ranks.and_then(|r| r.get(k))).map(|r| *r as u32));
             }
         }
     }
@@ -310,6 +315,7 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("mse_mean", mean),
         col("mse_ci_low", lo),
         col("mse_ci_high", hi),
+        col("mse_std_error", se),
         col("exact_mse", ex),
         col("bound", bound),
         col("claimed", claimed),
@@ -317,6 +323,8 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("nees_mean", nees_mean),
         col("nees_ci_low", nees_lo),
         col("nees_ci_high", nees_hi),
+        col("nees_std_error", nees_se),
+        col("nees_rank", nees_rank),
     ])
 }
 

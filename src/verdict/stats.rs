@@ -134,3 +134,19 @@ pub fn holm(p: &[f64], alpha: f64) -> Holm {
     }
     Holm { rejected, threshold }
 }
+
+/// The q-quantile of χ²(dof) (statrs's inversion of the regularized gamma function).
+pub fn chi2_quantile(q: f64, dof: f64) -> f64 {
+    match ChiSquared::new(dof) {
+        Ok(c) if (0.0..=1.0).contains(&q) => c.inverse_cdf(q),
+        _ => f64::NAN,
+    }
+}
+
+/// The smallest factor c − 1 by which the true error second moment may exceed the claimed one
+/// (E\[e eᵀ] = c·P_z) and be detected with probability 1 − β by the two-sided χ²(dof) test at level
+/// `level`: n·r·NEES is then c·χ²(dof), beyond the test's upper critical value q₁₋ₗₑᵥₑₗ/₂ with
+/// probability P\[χ² > q₁₋ₗₑᵥₑₗ/₂ / c] = 1 − β, so c = q₁₋ₗₑᵥₑₗ/₂ / q_β. Exact under the χ² model.
+pub fn chi2_detectable(dof: f64, level: f64, beta: f64) -> f64 {
+    chi2_quantile(1.0 - level / 2.0, dof) / chi2_quantile(beta, dof) - 1.0
+}

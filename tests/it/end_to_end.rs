@@ -103,7 +103,7 @@ const SUMMARY_COLUMNS: [&str; 46] = [
     "mc_seconds",
 ];
 
-const STEPS_COLUMNS: [&str; 15] = [
+const STEPS_COLUMNS: [&str; 18] = [
     "experiment",
     "variant",
     "scenario",
@@ -112,6 +112,7 @@ const STEPS_COLUMNS: [&str; 15] = [
     "mse_mean",
     "mse_ci_low",
     "mse_ci_high",
+    "mse_std_error",
     "exact_mse",
     "bound",
     "claimed",
@@ -119,6 +120,8 @@ const STEPS_COLUMNS: [&str; 15] = [
     "nees_mean",
     "nees_ci_low",
     "nees_ci_high",
+    "nees_std_error",
+    "nees_rank",
 ];
 
 fn names(df: &DataFrame) -> Vec<String> {
