@@ -122,8 +122,7 @@ fn npy<R: std::io::Read>(file: npyz::NpyFile<R>) -> Result<Array, String> {
 fn npz(bytes: &[u8], key: &str) -> Result<Array, String> {
     let mut archive =
         zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("not a valid .npz archive ({e})"))?;
-    let names: Vec<String> =
-        archive.file_names().filter_map(|n| n.strip_suffix(".npy")).map(str::to_string).collect();
+    let names: Vec<String> = archive.file_names().filter_map(|n| n.strip_suffix(".npy")).map(str::to_string).collect();
     let mut member = match archive.by_name(&format!("{key}.npy")) {
         Ok(m) => m,
         Err(zip::result::ZipError::FileNotFound) => {
@@ -134,7 +133,8 @@ fn npz(bytes: &[u8], key: &str) -> Result<Array, String> {
         Err(e) => return Err(format!("array `{key}` cannot be read ({e})")),
     };
     let mut npy_bytes = Vec::with_capacity(member.size() as usize);
-    std::io::Read::read_to_end(&mut member, &mut npy_bytes).map_err(|e| format!("array `{key}` cannot be read ({e})"))?;
+    std::io::Read::read_to_end(&mut member, &mut npy_bytes)
+        .map_err(|e| format!("array `{key}` cannot be read ({e})"))?;
     npy(npyz::NpyFile::new(&npy_bytes[..]).map_err(|e| format!("array `{key}` is not an .npy ({e})"))?)
 }
 
