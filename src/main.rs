@@ -112,6 +112,9 @@ struct CheckArgs {
     /// Write a JUnit XML report (one test case per cell) to this file.
     #[arg(long)]
     junit: Option<PathBuf>,
+    /// The stored result folder `matches_baseline` expectations compare the run with.
+    #[arg(long)]
+    baseline: Option<PathBuf>,
     #[command(flatten)]
     opts: RunOpts,
     /// Output folder (default: results/NAME); replaced only when the run completes.
@@ -267,7 +270,7 @@ fn main_inner(cli: Cli) -> Result<ExitCode> {
         }
         Command::Compare { old, new, alpha, rel_tol, json } => {
             use filterbench::verdict::compare;
-            let opts = compare::CompareOptions { alpha, rel_tol, keep_identical: false };
+            let opts = compare::CompareOptions { alpha, rel_tol, ..Default::default() };
             let c = compare::compare_folders(&old, &new, &opts)?;
             if let Some(path) = json {
                 compare::json(&c, &path)?;
@@ -319,7 +322,7 @@ fn check(a: CheckArgs) -> Result<ExitCode> {
             }
         }
         let rates = run::rates(a.alpha, a.beta, &exps[0].check)?;
-        let result = run::evaluate_folder(dir, &exps, rates)?;
+        let result = run::evaluate_folder(dir, &exps, rates, a.baseline.as_deref())?;
         output::write_parquet(&result, &exps[0].name, &dir.join(output::CHECK_FILE))?;
         return finish(&a, &result, &exps[0].name, dir);
     }
@@ -346,7 +349,7 @@ fn check(a: CheckArgs) -> Result<ExitCode> {
                 pilot.iter().map(|e| pool.install(|| pipeline::run(e, false))).collect::<Result<Vec<_>>>()?;
             let runs: Vec<_> = pilot.iter().zip(&outcomes).collect();
             report::parquet::write_tables(&runs, &dir)?;
-            run::evaluate_folder(&dir, &pilot, rates)
+            run::evaluate_folder(&dir, &pilot, rates, a.baseline.as_deref())
         })();
         let _ = std::fs::remove_dir_all(&dir);
         let n = filterbench::verdict::evaluate::trials_for(&piloted?, pilot_trials, delta).ok_or_else(|| {
@@ -379,7 +382,7 @@ fn check(a: CheckArgs) -> Result<ExitCode> {
         let outcomes = exps.iter().map(|e| pool.install(|| pipeline::run(e, !a.quiet))).collect::<Result<Vec<_>>>()?;
         let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
         report_runs(&runs, dir, &command_line, true)?;
-        let r = run::evaluate_folder(dir, &exps, rates)?;
+        let r = run::evaluate_folder(dir, &exps, rates, a.baseline.as_deref())?;
         output::write_parquet(&r, &exps[0].name, &dir.join(output::CHECK_FILE))?;
         result = Some(r);
         Ok(())

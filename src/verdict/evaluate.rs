@@ -101,10 +101,11 @@ pub fn tests(
     expectations: &[Expectation],
     exps: &[Experiment],
     tables: &Tables,
+    baseline: Option<&std::path::Path>,
 ) -> Result<Vec<(usize, &'static str, Test)>> {
     let mut out = Vec::new();
     for (i, (k, e)) in configured.iter().zip(expectations).enumerate() {
-        let cx = Context { exps, tables, sel: Selection::of(e) };
+        let cx = Context { exps, tables, sel: Selection::of(e), baseline };
         let tests = k.tests(&cx)?;
         let why = |what: &str| format!("kind `{}` applies to no {what} of this result", k.kind());
         for (key, names, of) in [

@@ -37,7 +37,7 @@ pub struct Test {
     /// The step, None for a summed error.
     pub step: Option<u32>,
     /// What is compared, e.g. `mean vs exact`, `violations`, `NEES`.
-    pub what: &'static str,
+    pub what: std::borrow::Cow<'static, str>,
     pub observed: f64,
     pub reference: f64,
     /// The standard error of `observed` (None for a `Certain` cell).
@@ -74,6 +74,8 @@ pub struct Context<'a> {
     pub exps: &'a [Experiment],
     pub tables: &'a Tables,
     pub sel: Selection<'a>,
+    /// The baseline folder `--baseline` names, for `matches_baseline`.
+    pub baseline: Option<&'a std::path::Path>,
 }
 
 impl Context<'_> {
@@ -146,7 +148,7 @@ pub trait Kind: 'static {
 #[allow(clippy::too_many_arguments)]
 pub fn z_test(
     row: (&Option<String>, &str, &str, Option<u32>),
-    what: &'static str,
+    what: impl Into<std::borrow::Cow<'static, str>>,
     observed: f64,
     reference: f64,
     std_error: f64,
@@ -166,7 +168,7 @@ pub fn z_test(
         scenario: row.1.to_string(),
         filter: row.2.to_string(),
         step: row.3,
-        what,
+        what: what.into(),
         observed,
         reference,
         std_error: Some(std_error),

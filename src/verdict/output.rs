@@ -177,7 +177,7 @@ pub fn write_parquet(check: &Check, experiment: &str, path: &Path) -> Result<()>
         col("scenario", Series::new("".into(), s(&|c| Some(c.test.scenario.clone())))),
         col("filter", Series::new("".into(), s(&|c| Some(c.test.filter.clone())))),
         col("step", Series::new("".into(), cells.iter().map(|c| c.test.step).collect::<Vec<_>>())),
-        col("test", Series::new("".into(), cells.iter().map(|c| c.test.what).collect::<Vec<_>>())),
+        col("test", Series::new("".into(), cells.iter().map(|c| c.test.what.as_ref()).collect::<Vec<_>>())),
         col("method", Series::new("".into(), s(&method))),
         col("observed", Series::new("".into(), f(&|c| Some(c.test.observed)))),
         col("reference", Series::new("".into(), f(&|c| Some(c.test.reference)))),

@@ -44,8 +44,9 @@ pub fn experiments_of(dir: &Path) -> Result<Vec<Experiment>> {
     config::variants_of(name, &format!("{shown} (experiment_file)"), file, &overrides, None)
 }
 
-/// Every expectation of `exps` evaluated on the tables of the result folder `dir`.
-pub fn evaluate_folder(dir: &Path, exps: &[Experiment], rates: Rates) -> Result<Check> {
+/// Every expectation of `exps` evaluated on the tables of the result folder `dir` (`baseline`: the
+/// folder `--baseline` names, for `matches_baseline`).
+pub fn evaluate_folder(dir: &Path, exps: &[Experiment], rates: Rates, baseline: Option<&Path>) -> Result<Check> {
     let exp = &exps[0];
     let configured = evaluate::configure(exp)?;
     if configured.is_empty() {
@@ -55,6 +56,6 @@ pub fn evaluate_folder(dir: &Path, exps: &[Experiment], rates: Rates) -> Result<
         ));
     }
     let tables = Tables::read(dir)?;
-    let tests = evaluate::tests(&configured, &exp.expectations, exps, &tables)?;
+    let tests = evaluate::tests(&configured, &exp.expectations, exps, &tables, baseline)?;
     Ok(evaluate::evaluate(&configured, tests, rates))
 }

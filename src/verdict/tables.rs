@@ -111,6 +111,8 @@ pub struct PairedRow {
 /// The three tables of one result folder.
 #[derive(Clone, Debug)]
 pub struct Tables {
+    /// The result folder the tables were read from.
+    pub dir: std::path::PathBuf,
     pub summary: Vec<SummaryRow>,
     pub steps: Vec<StepRow>,
     pub paired: Vec<PairedRow>,
@@ -127,7 +129,7 @@ fn nonnull(v: Vec<Option<f64>>, t: &Table, name: &str) -> Result<Vec<f64>> {
 impl Tables {
     /// Reads the tables of the result folder `dir`.
     pub fn read(dir: &Path) -> Result<Tables> {
-        Ok(Tables { summary: summary(dir)?, steps: steps(dir)?, paired: paired(dir)? })
+        Ok(Tables { dir: dir.to_path_buf(), summary: summary(dir)?, steps: steps(dir)?, paired: paired(dir)? })
     }
 }
 

@@ -34,7 +34,7 @@ fn example3(dir: &Path, name: &str, seed: u64) -> PathBuf {
     out
 }
 
-fn copy(from: &Path, to: &Path) {
+pub(crate) fn copy(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();
     for e in std::fs::read_dir(from).unwrap() {
         let e = e.unwrap();
@@ -42,11 +42,11 @@ fn copy(from: &Path, to: &Path) {
     }
 }
 
-fn read(path: &Path) -> DataFrame {
+pub(crate) fn read(path: &Path) -> DataFrame {
     ParquetReader::new(std::fs::File::open(path).unwrap()).finish().unwrap()
 }
 
-fn write(path: &Path, df: &mut DataFrame) {
+pub(crate) fn write(path: &Path, df: &mut DataFrame) {
     ParquetWriter::new(std::fs::File::create(path).unwrap()).finish(df).unwrap();
 }
 

@@ -31,11 +31,20 @@ pub struct CompareOptions {
     /// Keep the identical cells in [`crate::verdict::compare::Comparison::cells`] too (by default
     /// only those that moved are kept; the counts include every cell).
     pub keep_identical: bool,
+    /// Test Monte Carlo means by the two-sample z even when both runs used the same seed and
+    /// trials (`matches_baseline`: a rounding difference in a mean is then no failure; the test is
+    /// conservative, since common draws make the difference's variance smaller than the sum).
+    pub independent_draws: bool,
 }
 
 impl Default for CompareOptions {
     fn default() -> Self {
-        CompareOptions { alpha: DEFAULT_ALPHA, rel_tol: DEFAULT_REL_TOL, keep_identical: false }
+        CompareOptions {
+            alpha: DEFAULT_ALPHA,
+            rel_tol: DEFAULT_REL_TOL,
+            keep_identical: false,
+            independent_draws: false,
+        }
     }
 }
 
@@ -168,6 +177,8 @@ pub struct Cell {
     pub rel_diff: Option<f64>,
     /// (new − old) / √(se_old² + se_new²) for a Monte Carlo cell of independent draws.
     pub z: Option<f64>,
+    /// √(se_old² + se_new²), the standard error `z` divides by.
+    pub std_error: Option<f64>,
     /// Two-sided p-value of `z`.
     pub p: Option<f64>,
     /// Holm's threshold for `p` at the comparison's α.

@@ -44,7 +44,11 @@ pub fn compare_folders(old: &Path, new: &Path, opts: &CompareOptions) -> Result<
     let (a, b) = (folder::Folder::open(old)?, folder::Folder::open(new)?);
     folder::same_experiment(&a, &b)?;
     let (ma, mb) = (&a.manifest, &b.manifest);
-    let common_draws = ma.seed.is_some() && ma.seed == mb.seed && ma.trials.is_some() && ma.trials == mb.trials;
+    let common_draws = !opts.independent_draws
+        && ma.seed.is_some()
+        && ma.seed == mb.seed
+        && ma.trials.is_some()
+        && ma.trials == mb.trials;
     let mut frames = vec![];
     for spec in tables::SPECS {
         frames.push((spec, folder::Frame::read(old, spec.file)?, folder::Frame::read(new, spec.file)?));

@@ -187,6 +187,7 @@ fn blank(spec: &Spec, f: &Frame, i: Option<usize>, column: &str, kind: Kind) -> 
         status: Status::Changed,
         rel_diff: None,
         z: None,
+        std_error: None,
         p: None,
         holm_threshold: None,
     }
@@ -320,7 +321,10 @@ pub(crate) fn compare_table(spec: &Spec, old: Option<&Frame>, new: Option<&Frame
                 Kind::MonteCarlo if !ctx.common_draws => {
                     let se = |f: &Frame, i: Option<usize>| i.and_then(|i| std_error(mc.expect("mc"), f, i));
                     test = match (va.num(), vb.num(), se(old, i), se(new, j)) {
-                        (Some(x), Some(y), Some(sx), Some(sy)) => two_sample(x, sx, y, sy),
+                        (Some(x), Some(y), Some(sx), Some(sy)) => {
+                            c.std_error = Some(sx.hypot(sy));
+                            two_sample(x, sx, y, sy)
+                        }
                         _ => None,
                     };
                     deterministic(&va, &vb, scale, ctx.opts.rel_tol)
@@ -331,7 +335,10 @@ pub(crate) fn compare_table(spec: &Spec, old: Option<&Frame>, new: Option<&Frame
                 // An identical mean is still one of the family's hypotheses (p = 1).
                 let se = |f: &Frame, i: Option<usize>| i.and_then(|i| std_error(mc.expect("mc"), f, i));
                 test = match (va.num(), se(old, i), se(new, j)) {
-                    (Some(x), Some(sx), Some(sy)) => two_sample(x, sx, x, sy),
+                    (Some(x), Some(sx), Some(sy)) => {
+                        c.std_error = Some(sx.hypot(sy));
+                        two_sample(x, sx, x, sy)
+                    }
                     _ => None,
                 };
             }

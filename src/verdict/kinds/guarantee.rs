@@ -27,12 +27,12 @@ impl Kind for WithinGuarantee {
         let mut designs_seen = std::collections::BTreeSet::new();
         for r in cx.tables.summary.iter().filter(|r| cx.sel.both(&r.scenario, &r.filter)) {
             let row = (&r.variant, r.scenario.as_str(), r.filter.as_str(), None);
-            let certain = |what, observed: f64, reference: f64, holds: bool| Test {
+            let certain = |what: &'static str, observed: f64, reference: f64, holds: bool| Test {
                 variant: r.variant.clone(),
                 scenario: r.scenario.clone(),
                 filter: r.filter.clone(),
                 step: None,
-                what,
+                what: what.into(),
                 observed,
                 reference,
                 std_error: None,

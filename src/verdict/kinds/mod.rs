@@ -1,6 +1,7 @@
 //! The kinds of `[[expect]]` entries, one file each, listed once in `kinds!` (docs/checks.md).
 
 mod agrees;
+mod baseline;
 mod better;
 mod consistent;
 mod guarantee;
@@ -27,4 +28,10 @@ macro_rules! kinds {
     };
 }
 
-kinds!(agrees::AgreesWithExact, guarantee::WithinGuarantee, consistent::Consistent, better::Better);
+kinds!(
+    agrees::AgreesWithExact,
+    guarantee::WithinGuarantee,
+    consistent::Consistent,
+    better::Better,
+    baseline::MatchesBaseline,
+);

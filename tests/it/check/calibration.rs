@@ -60,7 +60,8 @@ fn false_alarm_rate_and_power_are_as_designed() {
         let only_sum = small("[[expect]]\nkind = \"agrees_with_exact\"\nfilters = [\"kalman\"]\n", TRIALS, 1000 + seed);
         let configured = evaluate::configure(&only_sum).unwrap();
         let tests =
-            evaluate::tests(&configured, &only_sum.expectations, std::slice::from_ref(&only_sum), &tables).unwrap();
+            evaluate::tests(&configured, &only_sum.expectations, std::slice::from_ref(&only_sum), &tables, None)
+                .unwrap();
         let one = evaluate::evaluate(&configured, tests, rates);
         assert_eq!((one.tested, one.cells.len()), (1, 1));
         assert!(matches!(one.cells[0].test.method, Method::Z(_)));
@@ -71,7 +72,8 @@ fn false_alarm_rate_and_power_are_as_designed() {
         let row = tables.summary.iter_mut().find(|r| r.filter == "kalman").unwrap();
         *row.exact.as_mut().unwrap() += if seed % 2 == 0 { d } else { -d };
         let tests =
-            evaluate::tests(&configured, &only_sum.expectations, std::slice::from_ref(&only_sum), &tables).unwrap();
+            evaluate::tests(&configured, &only_sum.expectations, std::slice::from_ref(&only_sum), &tables, None)
+                .unwrap();
         detected += evaluate::evaluate(&configured, tests, rates).fails() as u64;
     }
     let (lo, hi) = binomial_interval(SEEDS, rates.alpha);

@@ -2,6 +2,7 @@
 //! over many seeds, the negative controls, the command with its JUnit report and exit codes, and
 //! the shipped experiments' own expectations.
 
+mod baseline;
 mod calibration;
 mod cli;
 mod shipped;
@@ -60,5 +61,5 @@ pub fn small(expect: &str, trials: usize, seed: u64) -> Experiment {
 pub fn run_and_check(exp: &Experiment, dir: &std::path::Path, rates: Rates) -> Check {
     let out = pipeline::run(exp, false).unwrap();
     report::parquet::write_tables(&[(exp, &out)], dir).unwrap();
-    verdict::run::evaluate_folder(dir, std::slice::from_ref(exp), rates).unwrap()
+    verdict::run::evaluate_folder(dir, std::slice::from_ref(exp), rates, None).unwrap()
 }
