@@ -94,6 +94,12 @@ impl super::family::Family for Minimax {
         super::family::Supports { multiplicative: false, varying_weights: true, ..super::family::Supports::ALL }
     }
 
+    /// Theorem 1.2b's check (`observation_covariance_min_eigenvalue`) forms the covariance of every
+    /// measurement of the horizon stacked: dense over the whole horizon.
+    fn footprint(_: &Params, plant: super::family::PlantSize) -> super::family::Footprint {
+        super::family::Footprint { state: plant.nx, gain_sets: 1, dense_horizon: true }
+    }
+
     fn check(p: &Params) -> std::result::Result<(), (&'static str, String)> {
         if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
             return Err(("tolerance", "must be a positive number".into()));

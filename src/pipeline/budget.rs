@@ -4,19 +4,30 @@
 
 use crate::config::{Experiment, Input};
 use crate::error::{Error, Result};
-use crate::sim::montecarlo::{BLOCK, WAVE};
+use crate::sim::montecarlo::{BLOCK, WAVE, WAVE_BYTES};
 
 /// Bytes of one running mean/variance accumulator (n, mean, M2).
-const WELFORD: u64 = 24;
-/// Bytes of one row of steps.parquet while it is built and written (numbers, names, the copy the
-/// writer makes).
+const WELFORD: u64 = crate::sim::montecarlo::WELFORD_BYTES;
+/// Bytes of one row of steps.parquet while it is built and written (numbers, the copy the writer
+/// makes); the table is written a row group at a time, at most two of them alive.
 const STEP_ROW: u64 = 256;
-/// Bytes of one row of gains.parquet (one nonzero gain entry) while it is built and written.
+/// Bytes of one row of gains.parquet (one nonzero gain entry) while it is built and written, a
+/// row group at a time like the steps.
 const GAIN_ROW: u64 = 64;
+/// Rows of a table alive at once while it is written: two row groups
+/// (`report::parquet`'s row groups of 512² rows).
+const TABLE_ROWS: u64 = 2 * 512 * 512;
 /// Bytes a small matrix costs beyond its entries (its header and the allocator's).
 const MATRIX: u64 = 64;
-/// Bytes per step, scenario and filter of the recording's series (empirical, interval, exact, bound).
-const RECORDED: u64 = 5 * 32;
+/// Bytes of one step's set of gains beyond its five matrices (the vector holding it).
+const GAINS_SET: u64 = 40;
+/// Bytes per (scenario, filter) of the recording's series, whatever the horizon: at most 4097
+/// rows (longer horizons are decimated to 2049 buckets, docs/output-columns.md) of up to three
+/// values, their steps and the envelope.
+const RECORDED: u64 = 4097 * 10 * 8;
+/// Bytes per step, scenario and filter kept until the reports: the exact error, the exact NEES
+/// and the per-step promise.
+const KEPT_STEP: u64 = 8 + 16 + 8;
 
 /// An estimate of the peak memory of `exp`, in bytes, with the dominant terms named.
 pub struct Estimate {
@@ -30,41 +41,53 @@ fn sat(xs: &[u64]) -> u64 {
     xs.iter().fold(1u64, |a, &x| a.saturating_mul(x))
 }
 
-/// The peak memory of the run, from its sizes: the designed gains of every filter at every step (and
-/// the largest filter's rows of gains.parquet), the
-/// Monte Carlo accumulators (per step, per filter, per block of a wave), what every scenario keeps
-/// (per-step means and exact errors), the per-step table, the recorded trajectories, and the dense
-/// matrices over the whole horizon that joint inputs and anisotropic analyses build.
+/// The peak memory of the run, from its sizes: the designed gains of every filter at every step,
+/// with its NEES weights and, while they are computed, one projected copy of its gains per filter
+/// (the designs run in parallel); the Monte Carlo accumulators (per step and filter, for a wave of
+/// blocks cut to fit `WAVE_BYTES` on a long horizon, the reduction tree's nodes and the total); what
+/// every scenario keeps (per-step statistics, exact errors, promises, the sample trajectories);
+/// the two row groups of a table being written; the recording's decimated series; and the dense
+/// matrices over the whole horizon that joint inputs, anisotropic analyses and some designs build.
 pub fn estimate(exp: &Experiment) -> Estimate {
     let p = &exp.plant;
     let steps = p.steps() as u64;
     let (nx, ny, nz, nw) = (p.nx() as u64, p.ny() as u64, p.nz() as u64, p.nw() as u64);
     let nf = exp.filters.len() as u64;
     let nsc = exp.scenarios.len() as u64;
-    // Each family states its filter's state size and gain sets ([`crate::families::Footprint`]);
-    // each entry as a number; the rows of gains.parquet are built one filter at a time.
+    // Each family states its filter's state size and gain sets ([`crate::families::Footprint`]).
     let size = crate::families::PlantSize { nx: p.nx(), modes: p.n_modes().max(1) };
     let footprints: Vec<_> = exp.filters.iter().map(|f| f.configured.footprint(size)).collect();
-    let (mut design, mut rows) = (0u64, 0u64);
+    let (mut design, mut copy) = (0u64, 0u64);
     for fp in &footprints {
         let (ns, sets) = (fp.state as u64, fp.gain_sets as u64);
         let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
         // Each of the five matrices of a step is its own allocation.
-        design = design.saturating_add(sat(&[steps, sets, entries.saturating_mul(8).saturating_add(5 * MATRIX)]));
-        rows = rows.max(sat(&[steps, sets, entries, GAIN_ROW]));
+        let gains = sat(&[steps, sets, entries.saturating_mul(8).saturating_add(5 * MATRIX + GAINS_SET)]);
+        // Its NEES weight per step, and a copy of its gains to project the output on (analysis::nees).
+        let weights = sat(&[steps, nz * nz * 8 + MATRIX]);
+        design = design.saturating_add(gains).saturating_add(weights);
+        copy = copy.saturating_add(gains);
     }
-    let design = design.saturating_add(rows);
-    // Monte Carlo accumulators alive at once per scenario: one per block of a wave, plus the total.
-    let live = sat(&[WAVE.min((exp.trials as u64).div_ceil(BLOCK)) + 1, nf, steps, WELFORD]);
-    let kept = sat(&[nsc, nf, steps, WELFORD + 8]);
-    let table = sat(&[nsc, nf, steps, STEP_ROW + RECORDED]);
-    let traj = sat(&[nsc, exp.sample_trajectories as u64, nf + 1, nz, steps, 8]);
+    let design = design.saturating_add(copy);
+    // Monte Carlo accumulators alive at once per scenario: a wave of blocks, the tree's nodes (one
+    // per level) and the total, each per (filter, step) for the mean-square error and the NEES.
+    let per_block = sat(&[nf, steps, 2 * WELFORD]);
+    let blocks = (exp.trials as u64).div_ceil(BLOCK);
+    let threads = rayon::current_num_threads() as u64;
+    let wave = (WAVE_BYTES / per_block.max(1)).max(threads).clamp(1, WAVE).min(blocks);
+    let levels = 64 - u64::from(blocks.leading_zeros()) + 1;
+    let live = per_block.saturating_mul(wave + levels + 1);
+    let traj = sat(&[nsc, exp.sample_trajectories as u64, (nf + 1) * nz * 8 + 8, steps]);
+    let kept = sat(&[nsc, nf, steps, 2 * WELFORD + KEPT_STEP]).saturating_add(traj);
+    let rows_of_gains = footprints.iter().map(|f| (f.state * (f.state + ny as usize + nz as usize) + 1) as u64);
+    let table = TABLE_ROWS * STEP_ROW + rows_of_gains.max().unwrap_or(0).min(TABLE_ROWS) * GAIN_ROW;
+    let recording = sat(&[nsc, nf, RECORDED]);
     let dense = exp.anisotropy.is_some()
         || footprints.iter().any(|f| f.dense_horizon)
         || exp.scenarios.iter().any(|s| s.input != Input::Independent);
     let dense_side = if dense { nx.saturating_add(nw.saturating_mul(steps)) } else { 0 };
     let dense_bytes = sat(&[3, dense_side, dense_side, 8]);
-    let bytes = [design, live, kept, table, traj, dense_bytes].iter().fold(0u64, |a, &x| a.saturating_add(x));
+    let bytes = [design, live, kept, table, recording, dense_bytes].iter().fold(0u64, |a, &x| a.saturating_add(x));
     Estimate { bytes, dense_side, dense_bytes }
 }
 

@@ -10,6 +10,7 @@ pub mod manifest;
 pub mod output;
 pub mod parquet;
 pub mod recording;
+mod rows;
 pub mod trials;
 
 use std::path::Path;

@@ -17,7 +17,7 @@ type Part = fn(&Experiment, &RunOutcome, &mut Batches) -> Result<()>;
 /// The tables, by file name.
 pub(crate) const TABLES: &[(&str, Part)] = &[
     ("summary.parquet", |e, o, b| b.put(summary(e, o)?)),
-    ("steps.parquet", |e, o, b| b.put(steps(e, o)?)),
+    ("steps.parquet", steps),
     ("gains.parquet", gains),
     ("paired.parquet", |e, o, b| b.put(paired(e, o)?)),
     ("design_trace.parquet", |e, o, b| b.put(trace(e, o)?)),
@@ -37,6 +37,11 @@ pub(crate) struct Batches {
 }
 
 impl Batches {
+    /// Whether a batch has been written (the file has its columns).
+    fn started(&self) -> bool {
+        self.writer.is_some()
+    }
+
     fn put(&mut self, mut df: DataFrame) -> Result<()> {
         let what = self.path.display().to_string();
         let name = "variant".into();
@@ -273,59 +278,64 @@ struct SummaryCols {
     mc_seconds: Vec<f64>,
 }
 
-/// One row per (scenario, filter, step).
-fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
-    let (mut sc_, mut fl, mut step, mut mean, mut lo, mut hi, mut ex, mut bound, mut claimed) =
-        (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
-    let (mut nees_ex, mut nees_mean, mut nees_lo, mut nees_hi) = (vec![], vec![], vec![], vec![]);
-    let (mut se, mut nees_se, mut nees_rank) = (vec![], vec![], vec![]);
+/// One row per (scenario, filter, step), in that order, built a slice of one (scenario, filter)
+/// pair at a time and written a row group at a time, so a long horizon never holds the whole
+/// table (10⁷ rows at N = 10⁶ with 5 scenarios and 2 filters) in memory; the row groups are those
+/// of the whole table written at once.
+fn steps(exp: &Experiment, out: &RunOutcome, batches: &mut Batches) -> Result<()> {
+    let mut groups = Grouped::default();
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
-            let promise = sc.filters[f].promise.as_ref();
-            let cl = out.filters[f].claimed.as_ref();
-            let ranks = out.filters[f].nees_ranks.as_ref();
-            for (k, w) in sc.mc.filters[f].steps.iter().enumerate() {
-                let (l, h) = w.ci95();
-                sc_.push(sc.name.clone());
-                fl.push(spec.name.clone());
-                step.push(k as u32);
-                mean.push(w.mean);
-                lo.push(l);
-                hi.push(h);
-                se.push(w.std_error());
-                ex.push(Some(sc.exact[f].per_step[k]));
-                bound.push(promise.and_then(|p| p.bound(k)));
-                claimed.push(cl.and_then(|c| c.per_step.get(k).copied()));
-                nees_ex.push(sc.filters[f].nees_exact.as_ref().and_then(|v| v[k]));
-                let nw = sc.mc.filters[f].nees.get(k).filter(|w| w.n > 0);
-                nees_mean.push(nw.map(|w| w.mean));
-                nees_lo.push(nw.map(|w| w.ci95().0));
-                nees_hi.push(nw.map(|w| w.ci95().1));
-                nees_se.push(nw.map(|w| w.std_error()));
-                nees_rank.push(nw.and(ranks.and_then(|r| r.get(k))).map(|r| *r as u32));
+            let n = sc.mc.filters[f].steps.len();
+            for start in (0..n).step_by(ROW_GROUP) {
+                groups.add(
+                    batches,
+                    super::rows::steps(exp, out, sc, f, &spec.name, start..(start + ROW_GROUP).min(n))?,
+                )?;
             }
         }
     }
-    let n = step.len();
-    frame(vec![
-        col("experiment", vec![exp.name.as_str(); n]),
-        col("scenario", sc_),
-        col("filter", fl),
-        col("step", step),
-        col("mse_mean", mean),
-        col("mse_ci_low", lo),
-        col("mse_ci_high", hi),
-        col("mse_std_error", se),
-        col("exact_mse", ex),
-        col("bound", bound),
-        col("claimed", claimed),
-        col("nees_exact", nees_ex),
-        col("nees_mean", nees_mean),
-        col("nees_ci_low", nees_lo),
-        col("nees_ci_high", nees_hi),
-        col("nees_std_error", nees_se),
-        col("nees_rank", nees_rank),
-    ])
+    groups.finish(batches, || super::rows::steps(exp, out, &out.scenarios[0], 0, &exp.filters[0].name, 0..0))
+}
+
+/// Slices of one run's part of a table, written in row groups of [`ROW_GROUP`] rows as the whole
+/// part written at once would be, holding at most two row groups' worth.
+#[derive(Default)]
+struct Grouped {
+    pending: Option<DataFrame>,
+}
+
+impl Grouped {
+    fn add(&mut self, batches: &mut Batches, rows: DataFrame) -> Result<()> {
+        let mut all = match self.pending.take() {
+            Some(mut p) => {
+                p.vstack_mut_owned(rows).map_err(|e| Error::output(batches.path.display().to_string(), e))?;
+                p
+            }
+            None => rows,
+        };
+        while all.height() >= ROW_GROUP {
+            // One chunk, so one row group (the writer makes a row group per chunk).
+            let mut group = all.slice(0, ROW_GROUP);
+            group.rechunk_mut();
+            batches.put(group)?;
+            all = all.slice(ROW_GROUP as i64, all.height() - ROW_GROUP);
+        }
+        self.pending = Some(all);
+        Ok(())
+    }
+
+    /// Writes the last rows; a part without rows writes `empty()`, so the file has its columns.
+    fn finish(self, batches: &mut Batches, empty: impl FnOnce() -> Result<DataFrame>) -> Result<()> {
+        match self.pending {
+            Some(mut p) if p.height() > 0 => {
+                p.rechunk_mut();
+                batches.put(p)
+            }
+            _ if batches.started() => Ok(()),
+            _ => batches.put(empty()?),
+        }
+    }
 }
 
 /// Long format: filter, step, mode, matrix ∈ {Af, Bf, Cf, Df, Gf, s0}, row, col, value; entries that
@@ -333,57 +343,19 @@ fn steps(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
 /// per filter.
 fn gains(exp: &Experiment, out: &RunOutcome, batches: &mut Batches) -> Result<()> {
     for (spec, d) in exp.filters.iter().zip(&out.filters) {
-        batches.put(filter_gains(&spec.name, &d.design.realization)?)?;
+        let r = &d.design.realization;
+        let mut groups = Grouped::default();
+        // A slice of steps at a time (a long horizon has millions of rows per filter).
+        let entries =
+            |g: &crate::filter::realization::Gains| g.af.len() + g.bf.len() + g.cf.len() + g.df.len() + g.gf.len();
+        let per_step = r.gains.first().map_or(1, |gs| gs.iter().map(entries).sum::<usize>()).max(1);
+        let slice = (ROW_GROUP / per_step).max(1);
+        for start in (0..r.gains.len()).step_by(slice) {
+            groups.add(batches, super::rows::gains(&spec.name, r, start..(start + slice).min(r.gains.len()))?)?;
+        }
+        groups.finish(batches, || super::rows::gains(&spec.name, r, 0..0))?;
     }
     Ok(())
-}
-
-fn filter_gains<'a>(name: &'a str, r: &crate::filter::realization::Realization) -> Result<DataFrame> {
-    let (mut fl, mut step, mut mode, mut mat, mut row, mut coln, mut val): (Vec<&'a str>, _, _, _, _, _, _) =
-        (vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
-    let mut push = |f: &'a str, k: usize, md: Option<u32>, name: &'static str, m: &nalgebra::DMatrix<f64>| {
-        for j in 0..m.ncols() {
-            for i in 0..m.nrows() {
-                if m[(i, j)] == 0.0 {
-                    continue;
-                }
-                fl.push(f);
-                step.push(k as u32);
-                mode.push(md);
-                mat.push(name);
-                row.push(i as u32);
-                coln.push(j as u32);
-                val.push(m[(i, j)]);
-            }
-        }
-    };
-    push(name, 0, None, "s0", &nalgebra::DMatrix::from_column_slice(r.ns(), 1, r.s0.as_slice()));
-    // A mode-indexed realization has one set of gains per (step, mode); others have mode null.
-    let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if !r.is_mode_indexed() {
-        r.gains.iter().enumerate().map(|(k, g)| (k, None, &g[0])).collect()
-    } else {
-        r.gains
-            .iter()
-            .enumerate()
-            .flat_map(|(k, gs)| gs.iter().enumerate().map(move |(j, g)| (k, Some(j as u32), g)))
-            .collect()
-    };
-    for (k, md, g) in sets {
-        push(name, k, md, "Af", &g.af);
-        push(name, k, md, "Bf", &g.bf);
-        push(name, k, md, "Cf", &g.cf);
-        push(name, k, md, "Df", &g.df);
-        push(name, k, md, "Gf", &g.gf);
-    }
-    frame(vec![
-        col("filter", fl),
-        col("step", step),
-        col("mode", mode),
-        col("matrix", mat),
-        col("row", row),
-        col("col", coln),
-        col("value", val),
-    ])
 }
 
 /// Paired differences of the summed error between every two filters on the same draws.

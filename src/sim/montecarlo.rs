@@ -79,6 +79,24 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
 /// stays bounded by `WAVE` accumulators whatever the number of trials.
 pub(crate) const WAVE: u64 = 256;
 
+/// The most memory a wave's accumulators may take, unless that is less than one per thread: on a
+/// long horizon (one accumulator per step and filter, 96 MB per block at N = 10⁶ with 2 filters)
+/// a wave is cut to fewer blocks. The tree merges blocks in index order whatever the wave, so the
+/// results are the same bits.
+pub(crate) const WAVE_BYTES: u64 = 256 << 20;
+
+/// The blocks of one wave of scenario `sc`: [`WAVE`], or fewer on a long horizon ([`WAVE_BYTES`]).
+pub(crate) fn wave_blocks(sc: &Scenario) -> u64 {
+    let per_block: u64 = (0..sc.filters.len())
+        .map(|f| (1 + u64::from(sc.nees_weights(f).is_some())) * sc.plant.steps() as u64 * WELFORD_BYTES)
+        .sum();
+    let threads = rayon::current_num_threads() as u64;
+    (WAVE_BYTES / per_block.max(1)).max(threads).clamp(1, WAVE)
+}
+
+/// Bytes of one accumulator ([`Welford`]).
+pub(crate) const WELFORD_BYTES: u64 = std::mem::size_of::<Welford>() as u64;
+
 /// The number of blocks of a run of `trials` trials.
 pub fn blocks(trials: u64) -> u64 {
     trials.div_ceil(BLOCK)
@@ -102,8 +120,9 @@ pub(crate) fn run_range(
 ) -> Partial {
     let mut tree = Tree::default();
     let mut per = vec![Vec::new(); if per_trial { sc.filters.len() } else { 0 }];
-    for wave in range.clone().step_by(WAVE as usize) {
-        let parts: Vec<_> = (wave..(wave + WAVE).min(range.end))
+    let wave_size = wave_blocks(sc);
+    for wave in range.clone().step_by(wave_size as usize) {
+        let parts: Vec<_> = (wave..(wave + wave_size).min(range.end))
             .into_par_iter()
             .map_init(
                 || Workspace::new(sc),

@@ -26,6 +26,7 @@ mod hinf_sdp;
 mod kalman;
 mod lemma1;
 mod linear;
+mod long_horizon;
 mod markov_jump;
 mod minimax;
 mod multiplicative;

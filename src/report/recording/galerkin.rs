@@ -81,7 +81,12 @@ pub fn write(rec: &rerun::RecordingStream, run: &Run) -> RecResult {
                 .chain(std::iter::once([model.length as f32, 0.0]))
                 .collect()
         };
-        for k in 0..tr.z.ncols() {
+        // A decimated horizon shows the string at each bucket's first step (docs/output-columns.md).
+        let frames: Vec<usize> = match super::decimate::buckets(tr.z.ncols()) {
+            Some(b) => b.iter().map(|r| r.start).collect(),
+            None => (0..tr.z.ncols()).collect(),
+        };
+        for k in frames {
             rec.set_time_sequence("step", k as i64);
             let truth = rerun::LineStrips2D::new([strip(&|p| tr.z[(p, k)])])
                 .with_colors([style::TRUTH])

@@ -30,6 +30,15 @@ fn plus(path: &str) -> String {
     format!("+ /{path}")
 }
 
+/// The entity and, when the run's horizon is decimated for display, its min/max envelope.
+fn plus_env(run: &Run, path: &str) -> Vec<String> {
+    let mut v = vec![plus(path)];
+    if super::decimate::buckets(run.exp.plant.steps()).is_some() {
+        v.push(plus(&format!("{path}/envelope")));
+    }
+    v
+}
+
 fn plus_tree(path: &str) -> String {
     format!("+ /{path}/**")
 }
@@ -91,6 +100,11 @@ fn scenario(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Node> {
     let from_step = (exp.plant.steps() >= MIN_STEPS_TO_SKIP_TRANSIENT).then_some(1);
     let per_step = || ViewKind::TimeSeries { from_step, legend: Corner2D::RightBottom };
     let from = if from_step.is_some() { " from step 1" } else { "" };
+    // A decimated horizon says so (docs/output-columns.md): each point is a bucket of steps.
+    let of = match super::decimate::buckets(exp.plant.steps()) {
+        Some(b) => format!("{of}; per bucket of {} steps: mean, band from the min to the max", b[1].len()),
+        None => of,
+    };
     let mut top = vec![l.view(
         per_step(),
         &format!("per-step MSE{from}: empirical (thick) with 95 % band (thin), exact (dots){of}"),
@@ -100,10 +114,8 @@ fn scenario(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Node> {
         .iter()
         .filter_map(|f| {
             let p = sc.filters[*f].promise.as_ref()?;
-            Some([
-                plus(&format!("{}/exact", mse_at(*f))),
-                plus(&run.at(&["promise", &sc.name, &exp.filters[*f].name, p.label()])),
-            ])
+            let exact = plus_env(run, &format!("{}/exact", mse_at(*f)));
+            Some([exact, plus_env(run, &run.at(&["promise", &sc.name, &exp.filters[*f].name, p.label()]))].concat())
         })
         .flatten()
         .collect();
@@ -141,13 +153,15 @@ fn trajectory_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<O
         let (z, e) = (format!("z{}", j + 1), format!("e{}", j + 1));
         let at = |comp: &str, leaf: &str| run.at(&["trajectories", &sc.name, &trial, comp, leaf]);
         // The estimates of the filters not shown are in the same entities, hidden series.
-        let mut zc = vec![plus(&at(&z, "truth")), plus(&at(&z, "estimates")), plus(&at(&z, "dropouts"))];
+        let mut zc = [plus_env(run, &at(&z, "truth")), plus_env(run, &at(&z, "estimates"))].concat();
+        zc.push(plus(&at(&z, "dropouts")));
         if sc.noise_free.is_some() {
-            zc.push(plus(&at(&z, "noise_free")));
+            zc.extend(plus_env(run, &at(&z, "noise_free")));
         }
-        let ec = vec![plus(&at(&e, "errors")), plus(&at(&e, "dropouts"))];
+        let mut ec = plus_env(run, &at(&e, "errors"));
+        ec.push(plus(&at(&e, "dropouts")));
         if exp.plant.arrival().is_none() && exp.plant.switches() {
-            zc.push(plus(&run.at(&["trajectories", &sc.name, &trial, "mode"])));
+            zc.extend(plus_env(run, &run.at(&["trajectories", &sc.name, &trial, "mode"])));
         }
         let of = if tr.z.nrows() > COMPONENTS_SHOWN { format!(" of {}", tr.z.nrows()) } else { String::new() };
         views.push(l.view(

@@ -26,6 +26,7 @@
 //! the sample trials (`trajectories/…`, a string's `galerkin/…/string/…`), which only it holds.
 
 mod blueprint;
+mod decimate;
 mod galerkin;
 mod layout;
 mod run;
@@ -48,8 +49,8 @@ pub fn write(runs: &[(&Experiment, &RunOutcome)], path: &Path) -> Result<()> {
     // The layout goes first: a viewer that is still reading the data has already switched to it
     // (viewer 0.36.3 keeps its own heuristic layout when the blueprint comes last).
     layout::send(&rec, &runs).map_err(|e| Error::output(&what, e))?;
-    let mut w = Writer { rec: &rec, pending: Vec::new() };
     for run in &runs {
+        let mut w = Writer { rec: &rec, pending: Vec::new(), buckets: decimate::buckets(run.exp.plant.steps()) };
         write_run(&mut w, run).map_err(|e| Error::output(&what, e))?;
     }
     rec.flush_blocking().map_err(|e| Error::output(&what, e))?;
@@ -70,6 +71,22 @@ struct Pending {
 struct Writer<'r> {
     rec: &'r rerun::RecordingStream,
     pending: Vec<Pending>,
+    /// The run's buckets of steps when its horizon is decimated for display ([`decimate`]).
+    buckets: Option<Vec<std::ops::Range<usize>>>,
+}
+
+/// The envelope of a decimated series: per instance its colour (drawn faded and thin) and name.
+#[derive(Clone)]
+struct Envelope {
+    colours: Vec<style::Rgba>,
+    names: Vec<String>,
+    visible: Option<Vec<bool>>,
+}
+
+impl Envelope {
+    fn one(colour: style::Rgba, name: &str) -> Self {
+        Envelope { colours: vec![colour], names: vec![name.to_string()], visible: None }
+    }
 }
 
 impl Writer<'_> {
@@ -91,6 +108,84 @@ impl Writer<'_> {
         let steps = steps[..values.len() / per_row].to_vec();
         self.pending.push(Pending { entity, steps, values, per_row });
         Ok(())
+    }
+
+    /// A per-step series of `rows` rows of `per_row` instances (`value(k, i)`): written whole when the
+    /// horizon is not decimated, else one row per bucket with each instance's bucket mean (or the
+    /// minimum or maximum `how` asks for) and, with `envelope`, the buckets' minimum and maximum
+    /// of every instance in the child entity `envelope`.
+    #[allow(clippy::too_many_arguments)]
+    fn per_step(
+        &mut self,
+        entity: String,
+        style: &dyn rerun::AsComponents,
+        rows: usize,
+        per_row: usize,
+        value: impl Fn(usize, usize) -> f64,
+        how: Option<&[decimate::Reduce]>,
+        envelope: Option<Envelope>,
+    ) -> RecResult {
+        let Some(buckets) = self.buckets.clone().filter(|b| b.last().is_some_and(|r| r.end == rows)) else {
+            let steps: Vec<i64> = (0..rows as i64).collect();
+            return self.series(entity, style, &steps, interleave(rows, per_row, value), per_row);
+        };
+        let steps: Vec<i64> = buckets.iter().map(|r| r.start as i64).collect();
+        let mut line = Vec::with_capacity(buckets.len() * per_row);
+        let mut edges = Vec::with_capacity(buckets.len() * 2 * per_row);
+        for r in &buckets {
+            for i in 0..per_row {
+                let (mean, lo, hi) = decimate::reduce(r.clone(), |k| value(k, i));
+                line.push(match how.map_or(decimate::Reduce::Mean, |h| h[i]) {
+                    decimate::Reduce::Mean => mean,
+                    decimate::Reduce::Min => lo,
+                    decimate::Reduce::Max => hi,
+                });
+                edges.extend([lo, hi]);
+            }
+        }
+        self.series(entity.clone(), style, &steps, line, per_row)?;
+        if let Some(env) = envelope {
+            let twice = |v: &[style::Rgba]| v.iter().flat_map(|c| [style::faded(*c); 2]).collect::<Vec<_>>();
+            let mut s = rerun::SeriesLines::new()
+                .with_colors(twice(&env.colours))
+                .with_widths(vec![style::BAND_WIDTH; 2 * per_row])
+                // The line's own name: one legend entry per series, as for the band.
+                .with_names(env.names.iter().flat_map(|n| [n.clone(), n.clone()]));
+            if let Some(v) = env.visible {
+                s = s.with_visible_series(v.iter().flat_map(|b| [*b, *b]));
+            }
+            self.series(format!("{entity}/envelope"), &s, &steps, edges, 2 * per_row)?;
+        }
+        Ok(())
+    }
+
+    /// Markers at `marked` steps (lost measurements): every one, or one per bucket holding any, at
+    /// the bucket's step and the value of its first.
+    fn markers(
+        &mut self,
+        entity: String,
+        style: &dyn rerun::AsComponents,
+        marked: &[usize],
+        value: impl Fn(usize) -> f64,
+    ) -> RecResult {
+        let kept: Vec<(i64, usize)> = match &self.buckets {
+            None => marked.iter().map(|k| (*k as i64, *k)).collect(),
+            Some(b) => {
+                let mut out: Vec<(i64, usize)> = Vec::new();
+                let mut bi = 0;
+                for k in marked {
+                    while b[bi].end <= *k {
+                        bi += 1;
+                    }
+                    if out.last().is_none_or(|(s, _)| *s != b[bi].start as i64) {
+                        out.push((b[bi].start as i64, *k));
+                    }
+                }
+                out
+            }
+        };
+        let steps: Vec<i64> = kept.iter().map(|(s, _)| *s).collect();
+        self.series(entity, style, &steps, kept.iter().map(|(_, k)| value(*k)).collect(), 1)
     }
 
     /// Sends what waits, after the styles logged so far.
@@ -148,7 +243,6 @@ fn mse(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
     for (f, spec) in run.exp.filters.iter().enumerate() {
         let (c, name) = (style::filter_colour(f), spec.name.as_str());
         let st = &sc.mc.filters[f].steps;
-        let steps: Vec<i64> = (0..st.len().max(sc.exact[f].per_step.len()) as i64).collect();
         let at = |leaf: &str| run.at(&["mse", &sc.name, name, leaf]);
         // The mean, its band and the exact dots share the filter's name, so the legend has one
         // entry per filter (the view's title says which mark is which) and leaves the curves visible.
@@ -156,14 +250,19 @@ fn mse(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
             .with_colors([c, style::faded(c), style::faded(c)])
             .with_widths([style::EMPIRICAL_WIDTH, style::BAND_WIDTH, style::BAND_WIDTH])
             .with_names([name; 3]);
-        let values = interleave(st.len(), 3, |k, i| [st[k].mean, st[k].ci95().0, st[k].ci95().1][i]);
-        w.series(at("empirical"), &emp, &steps, values, 3)?;
+        // Decimated, the band's edges are the buckets' extremes: it covers every step's band.
+        let band = [decimate::Reduce::Mean, decimate::Reduce::Min, decimate::Reduce::Max];
+        let value = |k: usize, i: usize| [st[k].mean, st[k].ci95().0, st[k].ci95().1][i];
+        w.per_step(at("empirical"), &emp, st.len(), 3, value, Some(&band), None)?;
         let exact = marker_style(c, MarkerShape::Circle, 1.5, name);
-        w.series(at("exact"), &exact, &steps, sc.exact[f].per_step.clone(), 1)?;
+        let ex = &sc.exact[f].per_step;
+        w.per_step(at("exact"), &exact, ex.len(), 1, |k, _| ex[k], None, Some(Envelope::one(c, name)))?;
         if let Some(p) = &sc.filters[f].promise {
             let entity = run.at(&["promise", &sc.name, name, p.label()]);
-            let s = series_style(c, style::EXACT_WIDTH, &format!("{name} · {}", p.label()));
-            w.series(entity, &s, &steps, p.values().to_vec(), 1)?;
+            let label = format!("{name} · {}", p.label());
+            let s = series_style(c, style::EXACT_WIDTH, &label);
+            let v = p.values();
+            w.per_step(entity, &s, v.len(), 1, |k, _| v[k], None, Some(Envelope::one(c, &label)))?;
         }
     }
     Ok(())
@@ -186,36 +285,45 @@ fn trajectories(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
             .with_names(exp.filters.iter().map(|f| format!("{}{suffix}", f.name)))
             .with_visible_series((0..nf).map(|f| show.contains(&f)))
     };
+    let every = Envelope {
+        colours: (0..nf).map(style::filter_colour).collect(),
+        names: exp.filters.iter().map(|f| f.name.clone()).collect(),
+        visible: Some((0..nf).map(|f| show.contains(&f)).collect()),
+    };
     for tr in &sc.trajectories {
         let trial = format!("trial_{}", tr.trial);
         let n = tr.z.ncols();
-        let steps: Vec<i64> = (0..n as i64).collect();
         let lost: Vec<usize> = match exp.plant.arrival() {
             Some(_) => (0..tr.modes.len()).filter(|k| tr.modes[*k] == 0).collect(),
             None => Vec::new(),
         };
-        let lost_steps: Vec<i64> = lost.iter().map(|k| *k as i64).collect();
         let lost_style = marker_style(style::DROPOUT, MarkerShape::Cross, 8.0, "measurement lost");
         for j in 0..tr.z.nrows() {
             let (z, e) = (format!("z{}", j + 1), format!("e{}", j + 1));
             let at = |comp: &str, leaf: &str| run.at(&["trajectories", &sc.name, &trial, comp, leaf]);
             let truth = series_style(style::TRUTH, style::TRUTH_WIDTH, "truth");
-            w.series(at(&z, "truth"), &truth, &steps, tr.z.row(j).iter().copied().collect(), 1)?;
-            if let Some(nf) = &sc.noise_free {
+            let env = Some(Envelope::one(style::TRUTH, "truth"));
+            w.per_step(at(&z, "truth"), &truth, n, 1, |k, _| tr.z[(j, k)], None, env)?;
+            if let Some(nfz) = &sc.noise_free {
                 let s = series_style(style::NOISE_FREE, style::NOISE_FREE_WIDTH, "noise-free z");
-                w.series(at(&z, "noise_free"), &s, &steps, nf.row(j).iter().copied().collect(), 1)?;
+                let env = Some(Envelope::one(style::NOISE_FREE, "noise-free z"));
+                w.per_step(at(&z, "noise_free"), &s, n, 1, |k, _| nfz[(j, k)], None, env)?;
             }
-            w.series(at(&z, "estimates"), &styled(""), &steps, interleave(n, nf, |k, f| tr.zhat[f][(j, k)]), nf)?;
-            let err = interleave(n, nf, |k, f| tr.z[(j, k)] - tr.zhat[f][(j, k)]);
-            w.series(at(&e, "errors"), &styled(" · error"), &steps, err, nf)?;
-            w.series(at(&z, "dropouts"), &lost_style, &lost_steps, lost.iter().map(|k| tr.z[(j, *k)]).collect(), 1)?;
-            w.series(at(&e, "dropouts"), &lost_style, &lost_steps, vec![0.0; lost.len()], 1)?;
+            let est = |k: usize, f: usize| tr.zhat[f][(j, k)];
+            w.per_step(at(&z, "estimates"), &styled(""), n, nf, est, None, Some(every.clone()))?;
+            let err = |k: usize, f: usize| tr.z[(j, k)] - tr.zhat[f][(j, k)];
+            let env =
+                Envelope { names: every.names.iter().map(|m| format!("{m} · error")).collect(), ..every.clone() };
+            w.per_step(at(&e, "errors"), &styled(" · error"), n, nf, err, None, Some(env))?;
+            w.markers(at(&z, "dropouts"), &lost_style, &lost, |k| tr.z[(j, k)])?;
+            w.markers(at(&e, "dropouts"), &lost_style, &lost, |_| 0.0)?;
         }
         if exp.plant.arrival().is_none() && exp.plant.switches() {
             let entity = run.at(&["trajectories", &sc.name, &trial, "mode"]);
             let s = series_style(style::MODE, style::ESTIMATE_WIDTH, "Markov mode")
                 .with_interpolation_mode(rerun::components::InterpolationMode::StepAfter);
-            w.series(entity, &s, &steps, tr.modes.iter().map(|m| *m as f64).collect(), 1)?;
+            let env = Some(Envelope::one(style::MODE, "Markov mode"));
+            w.per_step(entity, &s, tr.modes.len(), 1, |k, _| tr.modes[k] as f64, None, env)?;
         }
     }
     Ok(())
