@@ -61,3 +61,37 @@ fn aniso_dropout_keeps_its_guarantees() {
     assert_eq!(norms, 2);
     assert!(gains > 0);
 }
+
+/// Every shipped experiment carries its own expectations (at least `agrees_with_exact`, and
+/// `within_guarantee` where a family promises something) and passes `filterbench check` at 1000
+/// trials with the default α = 1e-3 (fixed seeds: reproducible; a correct implementation fails
+/// each with probability at most α).
+#[test]
+fn every_shipped_experiment_passes_its_own_check() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            (p.extension()? == "toml").then(|| p.file_stem()?.to_str().map(str::to_string))?
+        })
+        .collect();
+    names.sort();
+    let tmp = TempDir::new();
+    for name in &names {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap();
+        assert!(text.contains("kind = \"agrees_with_exact\""), "{name} has no agrees_with_exact expectation");
+        let promises =
+            ["minimax", "hinf", "h2", "anisotropic"].iter().any(|f| text.contains(&format!("family = \"{f}\"")));
+        assert_eq!(
+            text.contains("kind = \"within_guarantee\""),
+            promises,
+            "{name}: within_guarantee where a family promises"
+        );
+        let out = tmp.path().join(name);
+        let o =
+            Command::new(BIN).args(["check", name, "--trials", "1000", "--quiet", "--out"]).arg(&out).output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(kinds(&out).iter().any(|(k, _)| k == "agrees_with_exact"), "{name}: agrees_with_exact cells");
+    }
+}
