@@ -7,8 +7,8 @@ use comfy_table::{CellAlignment, ContentArrangement, Table, presets};
 use crate::config::Experiment;
 use crate::pipeline::{RunOutcome, ScenarioOutcome};
 
-/// A number in at most 8 characters with four significant figures.
-fn num(x: f64) -> String {
+/// A number in at most 8 characters with four significant figures: every console table's format.
+pub fn num(x: f64) -> String {
     let a = x.abs();
     if !x.is_finite() || a == 0.0 {
         return format!("{x}");

@@ -1,5 +1,6 @@
 //! Parquet tables (polars). Column names and meanings are listed in the README.
 
+use super::rows::{col, frame};
 use std::path::Path;
 
 use polars::io::parquet::write::BatchedWriter;
@@ -80,18 +81,6 @@ pub fn write_tables(runs: &[(&Experiment, &RunOutcome)], dir: &Path) -> Result<(
         b.writer.expect("every table has a batch per run").finish().map_err(|e| Error::output(&what, e))?;
     }
     Ok(())
-}
-
-fn frame(cols: Vec<Column>) -> Result<DataFrame> {
-    DataFrame::new_infer_height(cols).map_err(|e| Error::output("parquet table", e))
-}
-
-fn col<T, P>(name: &str, v: T) -> Column
-where
-    Series: NamedFrom<T, P>,
-    P: ?Sized,
-{
-    Column::new(name.into(), v)
 }
 
 /// One row per (scenario, filter): summed error over the horizon.

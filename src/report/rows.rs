@@ -7,11 +7,13 @@ use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::pipeline::{RunOutcome, ScenarioOutcome};
 
-fn frame(cols: Vec<Column>) -> Result<DataFrame> {
+/// A table from its columns (one height).
+pub(super) fn frame(cols: Vec<Column>) -> Result<DataFrame> {
     DataFrame::new_infer_height(cols).map_err(|e| Error::output("parquet table", e))
 }
 
-fn col<T, P>(name: &str, v: T) -> Column
+/// A named column of any type polars takes.
+pub(super) fn col<T, P>(name: &str, v: T) -> Column
 where
     Series: NamedFrom<T, P>,
     P: ?Sized,

@@ -2,6 +2,7 @@
 //! check.parquet (one row per cell, docs/output-columns.md) and the JUnit XML report (one test
 //! case per cell), each file written beside its place and renamed onto it when complete.
 
+use crate::report::console::num;
 use std::path::Path;
 
 use comfy_table::{CellAlignment, ContentArrangement, Table, presets};
@@ -12,20 +13,6 @@ use super::kind::Method;
 use crate::error::{Error, Result};
 
 pub use crate::report::output::CHECK_FILE;
-
-/// A number with four significant figures.
-fn num(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || a == 0.0 {
-        return format!("{x}");
-    }
-    if (1e-2..1e5).contains(&a) {
-        let prec = (3 - a.log10().floor() as i32).max(0) as usize;
-        format!("{x:.prec$}")
-    } else {
-        format!("{x:.2e}")
-    }
-}
 
 /// Where a cell is: `variant / scenario / filter [/ step k]`.
 pub fn place(c: &Cell) -> String {

@@ -1,5 +1,6 @@
 //! The comparison on the console (comfy-table, as the run's own table) and as JSON.
 
+use crate::report::console::num;
 use std::path::Path;
 
 use comfy_table::{CellAlignment, ContentArrangement, Table, presets};
@@ -10,20 +11,6 @@ use crate::error::{Error, Result};
 
 /// How many changed cells the console lists below the table.
 const LISTED: usize = 20;
-
-/// A number with four significant figures, as the run's console table writes it.
-fn num(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || a == 0.0 {
-        return format!("{x}");
-    }
-    if (1e-2..1e5).contains(&a) {
-        let prec = (3 - a.log10().floor() as i32).max(0) as usize;
-        format!("{x:.prec$}")
-    } else {
-        format!("{x:.2e}")
-    }
-}
 
 /// One row per (table, column): its cells, how many are identical, moved within noise, changed
 /// beyond noise or not tested, and the largest |z| (Monte Carlo) or relative difference; then the
