@@ -12,6 +12,7 @@ pub mod findings;
 pub mod outcome;
 pub mod scenarios;
 pub mod shards;
+pub(crate) mod table;
 
 use std::time::Instant;
 

@@ -4,61 +4,8 @@
 
 use std::path::Path;
 
-use polars::prelude::*;
-
-use crate::error::{Error, Result};
-
-/// A table read back, its columns by type, each error naming the file.
-struct Table {
-    df: DataFrame,
-    shown: String,
-}
-
-impl Table {
-    fn read(dir: &Path, file: &str) -> Result<Self> {
-        let path = dir.join(file);
-        let f = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
-        let shown = path.display().to_string();
-        let df = ParquetReader::new(f).finish().map_err(|e| Error::invalid(&shown, e.to_string()))?;
-        Ok(Table { df, shown })
-    }
-    fn bad(&self, why: impl std::fmt::Display) -> Error {
-        Error::invalid(&self.shown, why.to_string())
-    }
-    fn has(&self, name: &str) -> bool {
-        self.df.column(name).is_ok()
-    }
-    fn cast(&self, name: &str, dtype: &DataType) -> Result<Series> {
-        let c = self.df.column(name).map_err(|e| self.bad(e))?;
-        c.as_materialized_series().cast(dtype).map_err(|e| self.bad(format!("column `{name}`: {e}")))
-    }
-    fn f64s(&self, name: &str) -> Result<Vec<Option<f64>>> {
-        let s = self.cast(name, &DataType::Float64)?;
-        Ok(s.f64().map_err(|e| self.bad(e))?.iter().collect())
-    }
-    fn u64s(&self, name: &str) -> Result<Vec<Option<u64>>> {
-        let s = self.cast(name, &DataType::UInt64)?;
-        Ok(s.u64().map_err(|e| self.bad(e))?.iter().collect())
-    }
-    fn bools(&self, name: &str) -> Result<Vec<Option<bool>>> {
-        let s = self.cast(name, &DataType::Boolean)?;
-        Ok(s.bool().map_err(|e| self.bad(e))?.iter().collect())
-    }
-    fn strs(&self, name: &str) -> Result<Vec<Option<String>>> {
-        let s = self.cast(name, &DataType::String)?;
-        Ok(s.str().map_err(|e| self.bad(e))?.iter().map(|v| v.map(str::to_string)).collect())
-    }
-    fn required(&self, name: &str) -> Result<Vec<String>> {
-        self.strs(name)?
-            .into_iter()
-            .enumerate()
-            .map(|(i, v)| v.ok_or_else(|| self.bad(format!("row {i}: `{name}` is null"))))
-            .collect()
-    }
-    fn height(&self) -> usize {
-        self.df.height()
-    }
-}
+use crate::error::Result;
+use crate::pipeline::table::Table;
 
 /// One row of summary.parquet: the summed error of one (variant, scenario, filter).
 #[derive(Clone, Debug)]
@@ -136,13 +83,13 @@ impl Tables {
 fn summary(dir: &Path) -> Result<Vec<SummaryRow>> {
     let t = Table::read(dir, "summary.parquet")?;
     let (variant, scenario, filter) = (t.strs("variant")?, t.required("scenario")?, t.required("filter")?);
-    let n = t.u64s("n_trials")?;
-    let (mean, se) = (nonnull(t.f64s("empirical_mean")?, &t, "empirical_mean")?, t.f64s("std_error")?);
-    let (exact, guaranteed, violations) = (t.f64s("exact")?, t.f64s("guaranteed")?, t.u64s("violations")?);
-    let (det, power) = (t.f64s("deterministic_error")?, t.f64s("input_power")?);
+    let n = t.opt_u64s("n_trials")?;
+    let (mean, se) = (nonnull(t.opt_f64s("empirical_mean")?, &t, "empirical_mean")?, t.opt_f64s("std_error")?);
+    let (exact, guaranteed, violations) = (t.opt_f64s("exact")?, t.opt_f64s("guaranteed")?, t.opt_u64s("violations")?);
+    let (det, power) = (t.opt_f64s("deterministic_error")?, t.opt_f64s("input_power")?);
     let (noise, norm, gamma) =
-        (t.f64s("gain_exact_noise")?, t.f64s("anisotropic_norm_sq")?, t.f64s("guaranteed_gain")?);
-    let (level, applies) = (t.f64s("guarantee_anisotropy")?, t.bools("guarantee_applies")?);
+        (t.opt_f64s("gain_exact_noise")?, t.opt_f64s("anisotropic_norm_sq")?, t.opt_f64s("guaranteed_gain")?);
+    let (level, applies) = (t.opt_f64s("guarantee_anisotropy")?, t.bools("guarantee_applies")?);
     Ok((0..t.height())
         .map(|i| SummaryRow {
             variant: variant[i].clone(),
@@ -168,21 +115,21 @@ fn summary(dir: &Path) -> Result<Vec<SummaryRow>> {
 fn steps(dir: &Path) -> Result<Vec<StepRow>> {
     let t = Table::read(dir, "steps.parquet")?;
     let (variant, scenario, filter) = (t.strs("variant")?, t.required("scenario")?, t.required("filter")?);
-    let step = t.u64s("step")?;
-    let mean = nonnull(t.f64s("mse_mean")?, &t, "mse_mean")?;
+    let step = t.opt_u64s("step")?;
+    let mean = nonnull(t.opt_f64s("mse_mean")?, &t, "mse_mean")?;
     let se = if t.has("mse_std_error") {
-        t.f64s("mse_std_error")?
+        t.opt_f64s("mse_std_error")?
     } else {
-        from_interval(t.f64s("mse_ci_low")?, t.f64s("mse_ci_high")?)
+        from_interval(t.opt_f64s("mse_ci_low")?, t.opt_f64s("mse_ci_high")?)
     };
-    let exact = t.f64s("exact_mse")?;
-    let nees = t.f64s("nees_mean")?;
+    let exact = t.opt_f64s("exact_mse")?;
+    let nees = t.opt_f64s("nees_mean")?;
     let nees_se = if t.has("nees_std_error") {
-        t.f64s("nees_std_error")?
+        t.opt_f64s("nees_std_error")?
     } else {
-        from_interval(t.f64s("nees_ci_low")?, t.f64s("nees_ci_high")?)
+        from_interval(t.opt_f64s("nees_ci_low")?, t.opt_f64s("nees_ci_high")?)
     };
-    let rank: Vec<Option<u64>> = if t.has("nees_rank") { t.u64s("nees_rank")? } else { vec![None; t.height()] };
+    let rank: Vec<Option<u64>> = if t.has("nees_rank") { t.opt_u64s("nees_rank")? } else { vec![None; t.height()] };
     Ok((0..t.height())
         .map(|i| StepRow {
             variant: variant[i].clone(),
@@ -203,7 +150,7 @@ fn paired(dir: &Path) -> Result<Vec<PairedRow>> {
     let t = Table::read(dir, "paired.parquet")?;
     let (variant, scenario) = (t.strs("variant")?, t.required("scenario")?);
     let (a, b) = (t.required("filter_a")?, t.required("filter_b")?);
-    let (d, se) = (nonnull(t.f64s("mean_diff")?, &t, "mean_diff")?, t.f64s("std_error")?);
+    let (d, se) = (nonnull(t.opt_f64s("mean_diff")?, &t, "mean_diff")?, t.opt_f64s("std_error")?);
     Ok((0..t.height())
         .map(|i| PairedRow {
             variant: variant[i].clone(),

@@ -4,6 +4,7 @@
 //! `trials.parquet`. Its size is O(runs × scenarios × filters × steps × log blocks), independent of
 //! the number of trials except for the per-trial rows. docs/partial-results.md describes the format.
 
+use crate::pipeline::table::Table;
 use std::path::Path;
 
 use polars::prelude::*;
@@ -172,37 +173,6 @@ pub(crate) fn read_meta(dir: &Path) -> Result<Meta> {
     })?;
     serde_json::from_str(&text)
         .map_err(|e| Error::invalid(format!("shard {}", dir.display()), format!("{META} is not a partial result: {e}")))
-}
-
-/// A table of a partial result read back, its columns by type, each error naming the file.
-struct Table {
-    df: DataFrame,
-    shown: String,
-}
-
-impl Table {
-    fn read(dir: &Path, file: &str) -> Result<Self> {
-        let path = dir.join(file);
-        let f = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
-        let shown = path.display().to_string();
-        let df = ParquetReader::new(f).finish().map_err(|e| Error::invalid(&shown, e.to_string()))?;
-        Ok(Table { df, shown })
-    }
-    fn bad(&self, why: impl std::fmt::Display) -> Error {
-        Error::invalid(&self.shown, why.to_string())
-    }
-    fn column(&self, name: &str) -> Result<&Column> {
-        self.df.column(name).map_err(|e| self.bad(e))
-    }
-    fn u32s(&self, name: &str) -> Result<Vec<u32>> {
-        Ok(self.column(name)?.u32().map_err(|e| self.bad(e))?.into_no_null_iter().collect())
-    }
-    fn u64s(&self, name: &str) -> Result<Vec<u64>> {
-        Ok(self.column(name)?.u64().map_err(|e| self.bad(e))?.into_no_null_iter().collect())
-    }
-    fn f64s(&self, name: &str) -> Result<Vec<f64>> {
-        Ok(self.column(name)?.f64().map_err(|e| self.bad(e))?.into_no_null_iter().collect())
-    }
 }
 
 /// The nodes of a shard, per run and scenario (`[r][s]`), for `runs` runs of `scenarios[r]`
