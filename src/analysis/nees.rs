@@ -12,12 +12,67 @@
 //! [`crate::analysis::exact`], unchanged) of scalar outputs uᵀz: of e_i for every i and of e_i + e_j for
 //! i < j, by polarization. That is nz(nz+1)/2 exact evaluations, cheap for the few outputs these
 //! filters estimate.
+//!
+//! NIS, the normalized innovation squared, is the same statistic for the innovation
+//! ν\[k] = y\[k] − C\[k] s\[k] of a filter whose state estimates x (M = I): s\[k] depends on
+//! y\[0..k−1] only, so ν is the measurement's surprise to the filter and its claimed covariance
+//! S\[k] = E[ν νᵀ] at the design covariance is C P⁻ Cᵀ + D W Dᵀ for the Kalman filter (seed 002
+//! (5.6)–(5.7)). ν is the output error of the [`innovation_system`], so both moments come from the
+//! same exact recursions.
 
 use crate::analysis::exact::ExactError;
 use crate::error::Result;
 use crate::filter::realization::Realization;
-use crate::model::plant::Plant;
+use crate::model::plant::{Plant, Steps};
 use crate::numerics::linalg::{Mat, PSD_TOL};
+
+/// A claimed second moment per step made into the weights of a normalized square (NEES or NIS):
+/// P⁺ / rank P and the rank r, the degrees of freedom of the square (χ²(r) for a Gaussian vector of
+/// that covariance).
+#[derive(Clone, Debug)]
+pub struct Normalized {
+    /// None at a step where the filter claims nothing (then the ratio means nothing).
+    pub weights: Vec<Option<Mat>>,
+    pub ranks: Vec<usize>,
+}
+
+impl Normalized {
+    pub fn of(claimed: &[Mat]) -> Self {
+        Normalized { weights: weights(claimed), ranks: claimed.iter().map(rank).collect() }
+    }
+}
+
+/// The plant and filter whose output error is the filter's innovation: z' = y (Cz' = C\[k],
+/// Dz' = D, zero before the first measurement) and ẑ' = C\[k] s (Cf' = C\[k], Df' = 0), so that
+/// e' = y − C s = ν. Defined for a filter whose state estimates x (M = I), which reads no mode,
+/// on a plant with one measurement model and no multiplicative noise in y; None elsewhere: a
+/// filter whose state is not an estimate of x has no innovation to speak of, and with modes or
+/// random matrices E[ν νᵀ] would mix measurement models the filter does not tell apart.
+pub fn innovation_system(plant: &Plant, real: &Realization) -> Option<(Plant, Realization)> {
+    let (n, ny) = (plant.nx(), plant.ny());
+    let tracks_x = real.tracks.as_ref().is_some_and(|m| m.shape() == (n, n) && *m == Mat::identity(n, n));
+    if !tracks_x || real.is_mode_indexed() || plant.n_modes() != 1 || !plant.factors.is_empty() {
+        return None;
+    }
+    let steps = plant.steps();
+    let c: Vec<Mat> = (0..steps).map(|k| plant.c_at(k).into_owned()).collect();
+    let mut p = plant.clone();
+    if plant.first_measurement == 0 {
+        p.cz = plant.c.clone();
+        p.dz = plant.d.clone();
+    } else {
+        p.cz = Steps::per_step(c.clone());
+        p.dz = Steps::per_step((0..steps).map(|k| plant.d_at(k).into_owned()).collect());
+    }
+    let mut r = real.clone();
+    for (k, g) in r.gains.iter_mut().enumerate() {
+        for g in g.iter_mut() {
+            g.cf = c[k].clone();
+            g.df = Mat::zeros(ny, ny);
+        }
+    }
+    Some((p, r))
+}
 
 /// The plant and filter seen through the output uᵀz (one row).
 fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {

@@ -63,15 +63,16 @@ pub fn estimate(exp: &Experiment) -> Estimate {
         let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
         // Each of the five matrices of a step is its own allocation.
         let gains = sat(&[steps, sets, entries.saturating_mul(8).saturating_add(5 * MATRIX + GAINS_SET)]);
-        // Its NEES weight per step, and a copy of its gains to project the output on (analysis::nees).
-        let weights = sat(&[steps, nz * nz * 8 + MATRIX]);
+        // Its NEES and NIS weights per step, and a copy of its gains to project the output on
+        // (analysis::nees).
+        let weights = sat(&[steps, (nz * nz + ny * ny) * 8 + 2 * MATRIX]);
         design = design.saturating_add(gains).saturating_add(weights);
         copy = copy.saturating_add(gains);
     }
     let design = design.saturating_add(copy);
     // Monte Carlo accumulators alive at once per scenario: a wave of blocks, the tree's nodes (one
-    // per level) and the total, each per (filter, step) for the mean-square error and the NEES.
-    let per_block = sat(&[nf, steps, 2 * WELFORD]);
+    // per level) and the total, each per (filter, step) for the mean-square error, NEES and NIS.
+    let per_block = sat(&[nf, steps, 3 * WELFORD]);
     let blocks = (exp.trials as u64).div_ceil(BLOCK);
     let threads = rayon::current_num_threads() as u64;
     let wave = (WAVE_BYTES / per_block.max(1)).max(threads).clamp(1, WAVE).min(blocks);

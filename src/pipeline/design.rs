@@ -7,6 +7,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::analysis::exact::{self, WorstCase};
+use crate::analysis::nees::{self, Normalized};
 use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::filter::design::Design;
@@ -25,10 +26,12 @@ pub struct DesignedFilter {
     pub deterministic_error: f64,
     /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
     pub claimed: Option<Claimed>,
-    /// Its NEES weight per step, P_z\[k]⁺ / rank, where it claims a covariance ([`crate::analysis::nees`]).
-    pub nees_weights: Option<Vec<Option<Mat>>>,
-    /// The rank of its claimed P_z\[k] per step (0 where it claims no error), beside `nees_weights`.
-    pub nees_ranks: Option<Vec<usize>>,
+    /// Its NEES weights per step, P_z\[k]⁺ / rank, and ranks, where it claims a covariance
+    /// ([`crate::analysis::nees`]).
+    pub nees: Option<Normalized>,
+    /// Its NIS weights S\[k]⁺ / rank and ranks, where it has an innovation and a design covariance
+    /// to claim S at ([`crate::analysis::nees::innovation_system`]).
+    pub nis: Option<Normalized>,
     /// Its generalized H2 norm² under the nominal weights ([`crate::analysis::hinf::generalized_h2_norm_sq`]);
     /// None on a switching plant or when the stacked operator would be too large.
     pub generalized_h2_sq: Option<f64>,
@@ -102,13 +105,19 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
                 (Some(_), _) if design.claimed_error.is_some() => design.claimed_error.clone(),
                 (Some(_), Some(cov)) => {
                     let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
-                    Some(crate::analysis::nees::error_moments(&exp.plant, &design.realization, &at_design)?)
+                    Some(nees::error_moments(&exp.plant, &design.realization, &at_design)?)
                 }
                 _ => None,
             };
-            let nees_weights = claimed_moments.as_deref().map(crate::analysis::nees::weights);
-            let nees_ranks =
-                claimed_moments.as_ref().map(|m| m.iter().map(crate::analysis::nees::rank).collect::<Vec<_>>());
+            let nees = claimed_moments.as_deref().map(Normalized::of);
+            // A claimed S that double precision cannot resolve is no claim: no NIS then.
+            let nis = match (&design.design_covariance, nees::innovation_system(&exp.plant, &design.realization)) {
+                (Some(cov), Some((p, r))) => {
+                    let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
+                    nees::error_moments(&p, &r, &at_design).ok().map(|m| Normalized::of(&m))
+                }
+                _ => None,
+            };
             let generalized_h2_sq = generalized_h2(exp, &design.realization)?;
             Ok(DesignedFilter {
                 design,
@@ -117,8 +126,8 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
                 anisotropic,
                 deterministic_error,
                 claimed,
-                nees_weights,
-                nees_ranks,
+                nees,
+                nis,
                 generalized_h2_sq,
             })
         })

@@ -7,6 +7,7 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::analysis::exact::{self, ErrorForm, ExactError};
+use crate::analysis::nees::{self, Normalized};
 use crate::config::Experiment;
 use crate::error::{Error, Result};
 use crate::filter::realization::Realization;
@@ -28,7 +29,8 @@ pub struct Engine<'a> {
     pub reals: Vec<&'a Realization>,
     pub ops: PlantOps,
     pub ratios: Option<RatioCheck<'a>>,
-    pub nees: Vec<Option<Vec<Option<Mat>>>>,
+    pub nees: Vec<Option<&'a [Option<Mat>]>>,
+    pub nis: Vec<Option<&'a [Option<Mat>]>>,
 }
 
 impl<'a> Engine<'a> {
@@ -39,7 +41,8 @@ impl<'a> Engine<'a> {
             reals: filters.iter().map(|f| &f.design.realization).collect(),
             ops: PlantOps::new(&exp.plant),
             ratios: ratio_check(exp, filters),
-            nees: filters.iter().map(|f| f.nees_weights.clone()).collect(),
+            nees: filters.iter().map(|f| f.nees.as_ref().map(|n| &n.weights[..])).collect(),
+            nis: filters.iter().map(|f| f.nis.as_ref().map(|n| &n.weights[..])).collect(),
         }
     }
 
@@ -60,6 +63,7 @@ impl<'a> Engine<'a> {
             index,
             ratios: self.ratios.as_ref(),
             nees: &self.nees,
+            nis: &self.nis,
             forms,
         }
     }
@@ -188,18 +192,24 @@ pub(super) fn outcome(engine: &Engine, p: Prepared, source: &mut Source) -> Resu
     let mc_seconds = t.elapsed().as_secs_f64();
     let trajectories = montecarlo::trajectories(&sc, exp.sample_trajectories as u64);
     let Prepared { setup, exact, .. } = p;
-    // NEES from the same exact recursions, each projected output checked like the error itself.
-    let nees_exact = engine
+    // NEES and NIS from the same exact recursions, each projected output checked like the error
+    // itself.
+    let square = |name: &str, n: &Normalized, p: &Plant, r: &Realization| -> Result<Vec<Option<f64>>> {
+        let trusted = |p: &Plant, r: &Realization| exact_of(p, r, &setup)?.trusted(name);
+        Ok(nees::exact(&n.weights, &nees::error_moments(p, r, &trusted)?))
+    };
+    let squares = engine
         .filters
         .iter()
         .zip(&exp.filters)
-        .map(|(f, spec)| match &f.nees_weights {
-            Some(w) => {
-                let trusted = |p: &Plant, r: &Realization| exact_of(p, r, &setup)?.trusted(&spec.name);
-                let m = crate::analysis::nees::error_moments(&exp.plant, &f.design.realization, &trusted)?;
-                Ok(Some(crate::analysis::nees::exact(w, &m)))
-            }
-            None => Ok(None),
+        .map(|(f, spec)| {
+            let real = &f.design.realization;
+            let nees = f.nees.as_ref().map(|n| square(&spec.name, n, &exp.plant, real)).transpose()?;
+            let innovation = f.nis.as_ref().and_then(|n| Some((n, nees::innovation_system(&exp.plant, real)?)));
+            // Where double precision cannot resolve E[ν νᵀ] in this scenario, nis_exact is null (the
+            // Monte Carlo NIS stands on its own); the output error's exact value is never dropped.
+            let nis = innovation.and_then(|(n, (p, r))| square(&spec.name, n, &p, &r).ok());
+            Ok((nees, nis))
         })
         .collect::<Result<Vec<_>>>()?;
     let (input_power, input_anisotropy) =
@@ -207,9 +217,9 @@ pub(super) fn outcome(engine: &Engine, p: Prepared, source: &mut Source) -> Resu
     let filters = engine
         .filters
         .iter()
-        .zip(nees_exact)
+        .zip(squares)
         .enumerate()
-        .map(|(f, (d, nees_exact))| {
+        .map(|(f, (d, (nees_exact, nis_exact)))| {
             FilterOutcome::new(
                 d,
                 Evaluated {
@@ -221,6 +231,7 @@ pub(super) fn outcome(engine: &Engine, p: Prepared, source: &mut Source) -> Resu
                     exact: &exact[f],
                     mc: &mc.filters[f],
                     nees_exact,
+                    nis_exact,
                 },
             )
         })

@@ -7,6 +7,7 @@ use crate::filter::design::GuaranteeKind;
 use crate::model::plant::{Covariances, Plant};
 use crate::numerics::linalg::Mat;
 use crate::sim::montecarlo::{FilterStats, McStats, Trajectory};
+use crate::sim::stats::Welford;
 
 use super::design::DesignedFilter;
 
@@ -92,7 +93,7 @@ pub struct Gain {
     pub exact_noise: Option<f64>,
 }
 
-/// A filter's NEES averaged over the steps that count and where it claims an error.
+/// A filter's NEES (or NIS) averaged over the steps that count and where it claims an error.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NeesAverage {
     pub exact: Option<f64>,
@@ -116,6 +117,9 @@ pub struct FilterOutcome {
     /// error).
     pub nees_exact: Option<Vec<Option<f64>>>,
     pub nees_average: NeesAverage,
+    /// Where it has an innovation and claims its covariance: the exact NIS per step.
+    pub nis_exact: Option<Vec<Option<f64>>>,
+    pub nis_average: NeesAverage,
     /// The mean-square gain, where the input has power.
     pub gain: Option<Gain>,
     /// Whether the input's anisotropy is within its γ²'s level (seed 003), if it guarantees one.
@@ -133,6 +137,7 @@ pub struct Evaluated<'a> {
     pub exact: &'a ExactError,
     pub mc: &'a FilterStats,
     pub nees_exact: Option<Vec<Option<f64>>>,
+    pub nis_exact: Option<Vec<Option<f64>>>,
 }
 
 impl FilterOutcome {
@@ -156,14 +161,19 @@ impl FilterOutcome {
                 exact_noise: (!e.disturbed).then(|| (e.exact.total - f.deterministic_error) / p),
             }
         });
-        let nees_average = nees_average(e.plant, e.nees_exact.as_deref(), e.mc);
+        let (nees_avg, nis_avg) = (
+            nees_average(e.plant, e.nees_exact.as_deref(), &e.mc.nees),
+            nees_average(e.plant, e.nis_exact.as_deref(), &e.mc.nis),
+        );
         FilterOutcome {
             guaranteed: g.map(|g| guaranteed_total(f, g)),
             guarantee_kind: g.map(|g| g.kind),
             promise,
             consistency: f.claimed.as_ref().map(|cl| e.exact.total / cl.total),
             nees_exact: e.nees_exact,
-            nees_average,
+            nees_average: nees_avg,
+            nis_exact: e.nis_exact,
+            nis_average: nis_avg,
             gain,
             guarantee_applies: f
                 .design
@@ -186,9 +196,9 @@ fn guaranteed_total(f: &DesignedFilter, g: &crate::filter::design::Guarantee) ->
     }
 }
 
-/// A filter's NEES averaged over the steps that count and where it claims an error: exact, and
-/// the mean of the per-step Monte Carlo means.
-fn nees_average(plant: &Plant, exact: Option<&[Option<f64>]>, mc: &FilterStats) -> NeesAverage {
+/// A filter's NEES (or NIS) averaged over the steps that count and where it claims an error:
+/// exact, and the mean of the per-step Monte Carlo means `mc`.
+fn nees_average(plant: &Plant, exact: Option<&[Option<f64>]>, mc: &[Welford]) -> NeesAverage {
     let Some(exact) = exact else { return NeesAverage::default() };
     let ks: Vec<usize> = (0..exact.len()).filter(|k| plant.counts(*k) && exact[*k].is_some()).collect();
     if ks.is_empty() {
@@ -196,6 +206,6 @@ fn nees_average(plant: &Plant, exact: Option<&[Option<f64>]>, mc: &FilterStats) 
     }
     let n = ks.len() as f64;
     let ex = ks.iter().map(|k| exact[*k].unwrap_or(0.0)).sum::<f64>() / n;
-    let emp = mc.nees.get(ks[0]).map(|_| ks.iter().map(|k| mc.nees[*k].mean).sum::<f64>() / n);
+    let emp = mc.get(ks[0]).map(|_| ks.iter().map(|k| mc[*k].mean).sum::<f64>() / n);
     NeesAverage { exact: Some(ex), empirical: emp }
 }

@@ -115,6 +115,8 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
             c.generalized_h2_norm_sq.push(d.generalized_h2_sq);
             c.nees_exact.push(o.nees_average.exact);
             c.nees_empirical.push(o.nees_average.empirical);
+            c.nis_exact.push(o.nis_average.exact);
+            c.nis_empirical.push(o.nis_average.empirical);
             c.worst_case.push(d.worst.as_ref().map(|w| w.total));
             c.worst_case_psd.push(d.worst.as_ref().map(|w| w.psd));
             let pt = d.design.per_trial.as_ref();
@@ -166,6 +168,8 @@ fn summary(exp: &Experiment, out: &RunOutcome) -> Result<DataFrame> {
         col("consistency", c.consistency),
         col("nees_exact", c.nees_exact),
         col("nees_empirical", c.nees_empirical),
+        col("nis_exact", c.nis_exact),
+        col("nis_empirical", c.nis_empirical),
         col("generalized_h2_norm_sq", c.generalized_h2_norm_sq),
         col("worst_case", c.worst_case),
         col("worst_case_psd", c.worst_case_psd),
@@ -241,6 +245,8 @@ struct SummaryCols {
     consistency: Vec<Option<f64>>,
     nees_exact: Vec<Option<f64>>,
     nees_empirical: Vec<Option<f64>>,
+    nis_exact: Vec<Option<f64>>,
+    nis_empirical: Vec<Option<f64>>,
     generalized_h2_norm_sq: Vec<Option<f64>>,
     worst_case: Vec<Option<f64>>,
     worst_case_psd: Vec<Option<bool>>,

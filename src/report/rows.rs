@@ -31,7 +31,8 @@ pub(crate) fn steps(
     ks: std::ops::Range<usize>,
 ) -> Result<DataFrame> {
     let n = ks.len();
-    let (mut step, mut mean, mut lo, mut hi, mut ex, mut bound, mut claimed) = (
+    let (mut step, mut mean, mut lo, mut hi, mut se, mut ex, mut bound, mut claimed) = (
+        Vec::with_capacity(n),
         Vec::with_capacity(n),
         Vec::with_capacity(n),
         Vec::with_capacity(n),
@@ -40,13 +41,12 @@ pub(crate) fn steps(
         Vec::with_capacity(n),
         Vec::with_capacity(n),
     );
-    let (mut nees_ex, mut nees_mean, mut nees_lo, mut nees_hi) =
-        (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-    let (mut se, mut nees_se, mut nees_rank) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
     let promise = sc.filters[f].promise.as_ref();
     let cl = out.filters[f].claimed.as_ref();
-    let ranks = out.filters[f].nees_ranks.as_ref();
     let st = &sc.mc.filters[f];
+    let (of, df) = (&sc.filters[f], &out.filters[f]);
+    let nees = square("nees", of.nees_exact.as_deref(), &st.nees, df.nees.as_ref(), ks.clone());
+    let nis = square("nis", of.nis_exact.as_deref(), &st.nis, df.nis.as_ref(), ks.clone());
     for k in ks {
         let w = &st.steps[k];
         let (l, h) = w.ci95();
@@ -58,16 +58,9 @@ pub(crate) fn steps(
         ex.push(Some(sc.exact[f].per_step[k]));
         bound.push(promise.and_then(|p| p.bound(k)));
         claimed.push(cl.and_then(|c| c.per_step.get(k).copied()));
-        nees_ex.push(sc.filters[f].nees_exact.as_ref().and_then(|v| v[k]));
-        let nw = st.nees.get(k).filter(|w| w.n > 0);
-        nees_mean.push(nw.map(|w| w.mean));
-        nees_lo.push(nw.map(|w| w.ci95().0));
-        nees_hi.push(nw.map(|w| w.ci95().1));
-        nees_se.push(nw.map(|w| w.std_error()));
-        nees_rank.push(nw.and(ranks.and_then(|r| r.get(k))).map(|r| *r as u32));
     }
     let text = |name: &str, v: &str| StringChunked::full(name.into(), v, n).into_column();
-    frame(vec![
+    let mut cols = vec![
         text("experiment", &exp.name),
         text("scenario", &sc.name),
         text("filter", filter),
@@ -79,13 +72,33 @@ pub(crate) fn steps(
         col("exact_mse", ex),
         col("bound", bound),
         col("claimed", claimed),
-        col("nees_exact", nees_ex),
-        col("nees_mean", nees_mean),
-        col("nees_ci_low", nees_lo),
-        col("nees_ci_high", nees_hi),
-        col("nees_std_error", nees_se),
-        col("nees_rank", nees_rank),
-    ])
+    ];
+    cols.extend(nees);
+    cols.extend(nis);
+    frame(cols)
+}
+
+/// The columns `{name}_exact`, `_mean`, `_ci_low`, `_ci_high`, `_std_error` and `_rank` of a
+/// normalized square (NEES or NIS) at steps `ks`: null at a step where the filter claims nothing.
+fn square(
+    name: &str,
+    exact: Option<&[Option<f64>]>,
+    mc: &[crate::sim::stats::Welford],
+    claim: Option<&crate::analysis::nees::Normalized>,
+    ks: std::ops::Range<usize>,
+) -> Vec<Column> {
+    let ws: Vec<_> = ks.clone().map(|k| mc.get(k).filter(|w| w.n > 0)).collect();
+    let by = |f: &dyn Fn(&crate::sim::stats::Welford) -> f64| ws.iter().map(|w| w.map(f)).collect::<Vec<_>>();
+    let rank: Vec<Option<u32>> =
+        ks.clone().zip(&ws).map(|(k, w)| w.and(claim.and_then(|c| c.ranks.get(k))).map(|r| *r as u32)).collect();
+    vec![
+        col(&format!("{name}_exact"), ks.map(|k| exact.and_then(|v| v[k])).collect::<Vec<_>>()),
+        col(&format!("{name}_mean"), by(&|w| w.mean)),
+        col(&format!("{name}_ci_low"), by(&|w| w.ci95().0)),
+        col(&format!("{name}_ci_high"), by(&|w| w.ci95().1)),
+        col(&format!("{name}_std_error"), by(&|w| w.std_error())),
+        col(&format!("{name}_rank"), rank),
+    ]
 }
 
 /// The rows of filter `name`'s gains at steps `ks` (with s0, counted as step 0, in the slice

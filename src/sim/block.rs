@@ -137,6 +137,12 @@ pub(crate) struct StepView<'a> {
     pub energy: &'a Row,
     /// θ\[k] per lane.
     pub modes: &'a [u32; LANES],
+    /// y\[k], w\[k] and the filter's state s\[k], or its error state ε = s − M x when
+    /// `error_coordinates` (for the innovation, [`crate::analysis::nees`]).
+    pub y: &'a [Row],
+    pub w: &'a [Row],
+    pub s: &'a [Row],
+    pub error_coordinates: bool,
 }
 
 /// Simulates trials first..first+active in the lanes of `ws` and calls `visit` for each step k and
@@ -221,7 +227,20 @@ fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, 
                     lanes::difference(&ws.z, &ws.err, &mut ws.zhat);
                 }
             }
-            visit(StepView { k, f, z: &ws.z, zhat: &ws.zhat, e: &ws.err, energy: &ws.energy, modes });
+            let (y, error_coordinates) = (&ws.y, form.is_some());
+            visit(StepView {
+                k,
+                f,
+                z: &ws.z,
+                zhat: &ws.zhat,
+                e: &ws.err,
+                energy: &ws.energy,
+                modes,
+                y,
+                w,
+                s,
+                error_coordinates,
+            });
             if k < p.horizon {
                 let next = &mut ws.s_next[f];
                 match form {

@@ -19,6 +19,9 @@ pub struct FilterStats {
     /// e\[k]ᵀ W\[k] e\[k] at each step, for a filter with a claimed covariance ([`crate::analysis::nees`]);
     /// empty otherwise (and at a step without a weight the accumulator stays empty).
     pub nees: Vec<Welford>,
+    /// ν\[k]ᵀ W\[k] ν\[k] at each step for a filter with an innovation and a claimed S (NIS); empty
+    /// otherwise.
+    pub nis: Vec<Welford>,
 }
 
 /// Everything one scenario's Monte Carlo run accumulates.
@@ -41,6 +44,7 @@ impl McStats {
                     max_ratio: 0.0,
                     violations: 0,
                     nees: if sc.nees_weights(f).is_some() { vec![Welford::default(); steps] } else { Vec::new() },
+                    nis: if sc.nis_weights(f).is_some() { vec![Welford::default(); steps] } else { Vec::new() },
                 })
                 .collect(),
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
@@ -51,7 +55,8 @@ impl McStats {
             a.total.merge(&b.total);
             a.max_ratio = a.max_ratio.max(b.max_ratio);
             a.violations += b.violations;
-            for (x, y) in a.steps.iter_mut().zip(&b.steps).chain(a.nees.iter_mut().zip(&b.nees)) {
+            let squares = a.nees.iter_mut().zip(&b.nees).chain(a.nis.iter_mut().zip(&b.nis));
+            for (x, y) in a.steps.iter_mut().zip(&b.steps).chain(squares) {
                 x.merge(y);
             }
         }
@@ -59,9 +64,10 @@ impl McStats {
             a.merge(b);
         }
     }
-    /// Whether `o` has the same accumulators (filters, steps, NEES, pairs): only then do they merge.
+    /// Whether `o` has the same accumulators (filters, steps, NEES, NIS, pairs): only then do they
+    /// merge.
     pub(crate) fn same_shape(&self, o: &McStats) -> bool {
-        let f = |m: &McStats| m.filters.iter().map(|f| (f.steps.len(), f.nees.len())).collect::<Vec<_>>();
+        let f = |m: &McStats| m.filters.iter().map(|f| (f.steps.len(), f.nees.len(), f.nis.len())).collect::<Vec<_>>();
         self.paired.len() == o.paired.len() && f(self) == f(o)
     }
     /// The pairs (i, j) in the order of `paired`.

@@ -12,9 +12,9 @@
 use rayon::prelude::*;
 
 use crate::numerics::linalg::Mat;
-use crate::sim::block::{Workspace, simulate};
+use crate::sim::block::{StepView, Workspace, simulate};
 use crate::sim::checks;
-use crate::sim::lanes::{self, LANES};
+use crate::sim::lanes::{self, LANES, Row};
 // The engine's inputs and outputs live below it (so that the block loop, the checks and the tree
 // need not import the engine); re-exported here, where callers look for them.
 pub use crate::sim::mc_stats::FilterStats;
@@ -40,6 +40,7 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
     let mut broke = vec![[0.0; LANES]; sums.len()];
     let mut e2 = [0.0; LANES];
     let mut q = [0.0; LANES];
+    let (mut nu, mut tmp) = (lanes::zeros(plant.ny()), lanes::zeros(plant.ny()));
     let per_filter = &mut st.filters;
     simulate(sc, ws, first, active, |v| {
         let (k, f, e) = (v.k, v.f, v.e);
@@ -49,6 +50,11 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
         if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
             lanes::quadratic(w, e, &mut q);
             acc.nees[k] = Welford::of(&q[..active]);
+        }
+        if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
+            innovation(sc, &v, &mut nu, &mut tmp);
+            lanes::quadratic(w, &nu, &mut q);
+            acc.nis[k] = Welford::of(&q[..active]);
         }
         if plant.counts(k) {
             lanes::axpy(1.0, &e2, &mut totals[f]);
@@ -75,6 +81,19 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
     (st, totals)
 }
 
+/// ν = y − C s, the innovation of a filter whose state estimates x ([`crate::analysis::nees`]), into
+/// `nu`; in error coordinates ε = s − x it is D w − C ε, which needs no x.
+fn innovation(sc: &Scenario, v: &StepView, nu: &mut [Row], tmp: &mut [Row]) {
+    let (c, d) = (sc.ops.c(v.k, 0), sc.ops.d(v.k, 0));
+    if v.error_coordinates {
+        lanes::apply(d, v.w, false, nu);
+    } else {
+        nu.copy_from_slice(v.y);
+    }
+    lanes::apply(c, v.s, false, tmp);
+    lanes::subtract(tmp, nu);
+}
+
 /// Blocks run in parallel per wave; a wave's results are merged before the next starts, so memory
 /// stays bounded by `WAVE` accumulators whatever the number of trials.
 pub(crate) const WAVE: u64 = 256;
@@ -88,7 +107,10 @@ pub(crate) const WAVE_BYTES: u64 = 256 << 20;
 /// The blocks of one wave of scenario `sc`: [`WAVE`], or fewer on a long horizon ([`WAVE_BYTES`]).
 pub(crate) fn wave_blocks(sc: &Scenario) -> u64 {
     let per_block: u64 = (0..sc.filters.len())
-        .map(|f| (1 + u64::from(sc.nees_weights(f).is_some())) * sc.plant.steps() as u64 * WELFORD_BYTES)
+        .map(|f| {
+            let squares = u64::from(sc.nees_weights(f).is_some()) + u64::from(sc.nis_weights(f).is_some());
+            (1 + squares) * sc.plant.steps() as u64 * WELFORD_BYTES
+        })
         .sum();
     let threads = rayon::current_num_threads() as u64;
     (WAVE_BYTES / per_block.max(1)).max(threads).clamp(1, WAVE)

@@ -38,10 +38,18 @@ pub struct StepRow {
     pub mse_mean: f64,
     pub mse_std_error: f64,
     pub exact: Option<f64>,
-    pub nees_mean: Option<f64>,
-    pub nees_std_error: Option<f64>,
-    /// None in a result written before the column existed: then no χ² test.
-    pub nees_rank: Option<u32>,
+    pub nees: Square,
+    pub nis: Square,
+}
+
+/// A normalized square's columns at one step (NEES or NIS, docs/output-columns.md): None where the
+/// filter claims nothing, or in a result written before the columns existed.
+#[derive(Clone, Debug, Default)]
+pub struct Square {
+    pub mean: Option<f64>,
+    pub std_error: Option<f64>,
+    /// None also in a result written before `_rank` existed: then no χ² test.
+    pub rank: Option<u32>,
 }
 
 /// One row of paired.parquet: J_a − J_b on the same draws.
@@ -123,13 +131,7 @@ fn steps(dir: &Path) -> Result<Vec<StepRow>> {
         from_interval(t.opt_f64s("mse_ci_low")?, t.opt_f64s("mse_ci_high")?)
     };
     let exact = t.opt_f64s("exact_mse")?;
-    let nees = t.opt_f64s("nees_mean")?;
-    let nees_se = if t.has("nees_std_error") {
-        t.opt_f64s("nees_std_error")?
-    } else {
-        from_interval(t.opt_f64s("nees_ci_low")?, t.opt_f64s("nees_ci_high")?)
-    };
-    let rank: Vec<Option<u64>> = if t.has("nees_rank") { t.opt_u64s("nees_rank")? } else { vec![None; t.height()] };
+    let (mut nees, mut nis) = (square(&t, "nees")?.into_iter(), square(&t, "nis")?.into_iter());
     Ok((0..t.height())
         .map(|i| StepRow {
             variant: variant[i].clone(),
@@ -139,11 +141,27 @@ fn steps(dir: &Path) -> Result<Vec<StepRow>> {
             mse_mean: mean[i],
             mse_std_error: se[i].unwrap_or(f64::NAN),
             exact: exact[i],
-            nees_mean: nees[i],
-            nees_std_error: nees_se[i],
-            nees_rank: rank[i].map(|r| r as u32),
+            nees: nees.next().unwrap_or_default(),
+            nis: nis.next().unwrap_or_default(),
         })
         .collect())
+}
+
+/// The `{name}_mean`, `_std_error` (or the 95 % interval) and `_rank` columns of a normalized
+/// square, all None where the table has no such columns.
+fn square(t: &Table, name: &str) -> Result<Vec<Square>> {
+    let col = |c: &str| format!("{name}_{c}");
+    if !t.has(&col("mean")) {
+        return Ok(vec![Square::default(); t.height()]);
+    }
+    let mean = t.opt_f64s(&col("mean"))?;
+    let se = if t.has(&col("std_error")) {
+        t.opt_f64s(&col("std_error"))?
+    } else {
+        from_interval(t.opt_f64s(&col("ci_low"))?, t.opt_f64s(&col("ci_high"))?)
+    };
+    let rank = if t.has(&col("rank")) { t.opt_u64s(&col("rank"))? } else { vec![None; t.height()] };
+    Ok((0..t.height()).map(|i| Square { mean: mean[i], std_error: se[i], rank: rank[i].map(|r| r as u32) }).collect())
 }
 
 fn paired(dir: &Path) -> Result<Vec<PairedRow>> {

@@ -54,7 +54,7 @@ fn kalman_baseline_writes_the_output_contract() {
 
 /// Every column of summary.parquet, in order: a new or renamed column must be documented here and
 /// in the README.
-const SUMMARY_COLUMNS: [&str; 46] = [
+const SUMMARY_COLUMNS: [&str; 48] = [
     "experiment",
     "variant",
     "scenario",
@@ -77,6 +77,8 @@ const SUMMARY_COLUMNS: [&str; 46] = [
     "consistency",
     "nees_exact",
     "nees_empirical",
+    "nis_exact",
+    "nis_empirical",
     "generalized_h2_norm_sq",
     "worst_case",
     "worst_case_psd",
@@ -103,7 +105,7 @@ const SUMMARY_COLUMNS: [&str; 46] = [
     "mc_seconds",
 ];
 
-const STEPS_COLUMNS: [&str; 18] = [
+const STEPS_COLUMNS: [&str; 24] = [
     "experiment",
     "variant",
     "scenario",
@@ -122,6 +124,12 @@ const STEPS_COLUMNS: [&str; 18] = [
     "nees_ci_high",
     "nees_std_error",
     "nees_rank",
+    "nis_exact",
+    "nis_mean",
+    "nis_ci_low",
+    "nis_ci_high",
+    "nis_std_error",
+    "nis_rank",
 ];
 
 fn names(df: &DataFrame) -> Vec<String> {
@@ -166,6 +174,8 @@ fn summary_values_are_sane(summary: &DataFrame, trials: u64) {
         "consistency",
         "nees_exact",
         "nees_empirical",
+        "nis_exact",
+        "nis_empirical",
         "generalized_h2_norm_sq",
         "worst_case",
         "input_power",

@@ -115,7 +115,7 @@ fn put(dir: &Path, file: &str, df: &mut DataFrame) -> Result<()> {
 }
 
 /// The rows of `nodes.parquet`: one per accumulator of a node. `stat` is `total` (item = filter),
-/// `step` and `nees` (item = filter, at `step`), `paired` (item = the pair's index) with n, mean
+/// `step`, `nees` and `nis` (item = filter, at `step`), `paired` (item = the pair's index) with n, mean
 /// and m2 of a Welford accumulator; or `checks` (item = filter) with n = violations and
 /// mean = max_ratio.
 #[derive(Default)]
@@ -157,6 +157,9 @@ impl NodeCols {
             }
             for (k, w) in st.nees.iter().enumerate() {
                 self.row(at, "nees", f, k, *w);
+            }
+            for (k, w) in st.nis.iter().enumerate() {
+                self.row(at, "nis", f, k, *w);
             }
         }
         for (p, w) in node.stats.paired.iter().enumerate() {
@@ -214,7 +217,8 @@ pub(crate) fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<
                 if kind == "total" {
                     in_order(st.filters.len(), it)?;
                     let steps = Vec::new();
-                    st.filters.push(FilterStats { total: w, steps, max_ratio: 0.0, violations: 0, nees: Vec::new() });
+                    let (nees, nis) = (Vec::new(), Vec::new());
+                    st.filters.push(FilterStats { total: w, steps, max_ratio: 0.0, violations: 0, nees, nis });
                     continue;
                 }
                 let last = st.filters.len().checked_sub(1);
@@ -224,6 +228,7 @@ pub(crate) fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<
                     "checks" => (f.violations, f.max_ratio) = (w.n, w.mean),
                     "step" => in_order(f.steps.len(), k).map(|_| f.steps.push(w))?,
                     "nees" => in_order(f.nees.len(), k).map(|_| f.nees.push(w))?,
+                    "nis" => in_order(f.nis.len(), k).map(|_| f.nis.push(w))?,
                     other => return Err(bad(format!("row {i}: unknown stat `{other}`"))),
                 }
             }

@@ -45,6 +45,7 @@ pub(crate) const SPECS: &[Spec] = &[
             "median",
             "p95",
             "nees_empirical",
+            "nis_empirical",
             "violations",
             "max_ratio",
             "gain_empirical",
@@ -60,8 +61,19 @@ pub(crate) const SPECS: &[Spec] = &[
         mc: &[
             ("mse_mean", Se::OrInterval("mse_std_error", "mse_ci_low", "mse_ci_high")),
             ("nees_mean", Se::OrInterval("nees_std_error", "nees_ci_low", "nees_ci_high")),
+            ("nis_mean", Se::OrInterval("nis_std_error", "nis_ci_low", "nis_ci_high")),
         ],
-        sampled: &["mse_ci_low", "mse_ci_high", "mse_std_error", "nees_ci_low", "nees_ci_high", "nees_std_error"],
+        sampled: &[
+            "mse_ci_low",
+            "mse_ci_high",
+            "mse_std_error",
+            "nees_ci_low",
+            "nees_ci_high",
+            "nees_std_error",
+            "nis_ci_low",
+            "nis_ci_high",
+            "nis_std_error",
+        ],
         absent_is_zero: false,
     },
     Spec {

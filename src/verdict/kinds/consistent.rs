@@ -1,6 +1,8 @@
 //! `consistent`: the filter's claimed error covariance matches its error, by NEES step by step
 //! (docs/output-columns.md, `nees_mean`), never pooled over time (the errors of one trial are
-//! correlated across steps, so a time average has a far wider spread than its steps suggest).
+//! correlated across steps, so a time average has a far wider spread than its steps suggest); and,
+//! where the filter has an innovation ν = y − C x̂ (its state estimates x), its claimed innovation
+//! covariance S\[k] likewise by NIS (`nis_mean`), each step a cell of its own.
 //!
 //! With Gaussian errors of exactly the claimed covariance P_z\[k] of rank r, e\[k]ᵀ P_z⁺ e\[k] is
 //! χ²(r), and over n independent trials n·r·NEES\[k] is χ²(n·r): tested two-sided at each step. Where
@@ -28,8 +30,9 @@ impl Kind for Consistent {
 
     fn tests(_p: &Params, cx: &Context) -> crate::Result<Vec<Test>> {
         let mut out = Vec::new();
-        for r in cx.tables.steps.iter().filter(|r| cx.sel.both(&r.scenario, &r.filter)) {
-            let (Some(nees), Some(se)) = (r.nees_mean, r.nees_std_error) else { continue };
+        let rows = cx.tables.steps.iter().filter(|r| cx.sel.both(&r.scenario, &r.filter));
+        for (r, what, sq) in rows.flat_map(|r| [(r, "NEES", &r.nees), (r, "NIS", &r.nis)]) {
+            let (Some(mean), Some(se)) = (sq.mean, sq.std_error) else { continue };
             let v = r.variant.as_deref();
             let n = cx
                 .tables
@@ -39,8 +42,8 @@ impl Kind for Consistent {
                 .map(|s| s.n_trials)
                 .unwrap_or(0);
             let row = (&r.variant, r.scenario.as_str(), r.filter.as_str(), Some(r.step));
-            let mut t = z_test(row, "NEES", nees, 1.0, se, Some(1.0), Sided::TwoSided, cx.heavy_tails(v, &r.scenario));
-            if let (Method::Z(_), None, Some(rank)) = (&t.method, cx.non_gaussian(v, &r.scenario), r.nees_rank) {
+            let mut t = z_test(row, what, mean, 1.0, se, Some(1.0), Sided::TwoSided, cx.heavy_tails(v, &r.scenario));
+            if let (Method::Z(_), None, Some(rank)) = (&t.method, cx.non_gaussian(v, &r.scenario), sq.rank) {
                 if rank > 0 && n > 0 {
                     t.method = Method::Chi2 { dof: n as f64 * rank as f64 };
                 }

@@ -72,8 +72,8 @@ fn holds_fails_junit_and_results() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&o.stderr));
     let df = cells(&out);
-    // sum + 21 steps for 2 filters, 21 NEES steps, one paired cell
-    assert_eq!(df.height(), 2 * 22 + 21 + 1);
+    // sum + 21 steps for 2 filters, 21 NEES and 21 NIS steps, one paired cell
+    assert_eq!(df.height(), 2 * 22 + 21 + 21 + 1);
     assert_eq!(junit(&xml), (df.height(), 0));
     assert!(stdout.contains("agrees_with_exact") && stdout.contains("holds"), "{stdout}");
     // The same folder read back: the same cells, nothing run.
@@ -95,6 +95,15 @@ fn holds_fails_junit_and_results() {
     let failing =
         |e: u32| (0..df.height()).filter(|&i| expectation.get(i) == Some(e) && verdict.get(i) == Some("fails")).count();
     assert!(failing(0) > 0, "the ×4 filter is not consistent at some step: {stdout}");
+    // Both of its beliefs are wrong: its error covariance (NEES) and its innovation covariance (NIS).
+    let what = df.column("test").unwrap().str().unwrap().clone();
+    for w in ["NEES", "NIS"] {
+        let n = (0..df.height())
+            .filter(|&i| expectation.get(i) == Some(0) && verdict.get(i) == Some("fails"))
+            .filter(|&i| what.get(i).is_some_and(|s| s.starts_with(w)))
+            .count();
+        assert!(n > 0, "the ×4 filter fails {w} at some step: {stdout}");
+    }
     assert_eq!(failing(1), 1, "swapped `better` fails: {stdout}");
     assert_eq!(failures, failing(0) + failing(1));
 }

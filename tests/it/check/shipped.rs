@@ -1,6 +1,6 @@
 //! The shipped experiments' own expectations (docs/checks.md), checked at reduced trial counts:
 //! `filterbench check` exits 0 on kalman_baseline (MC agrees with exact, summed and per step; the
-//! Kalman filter consistent at its design covariance under three noise shapes), minimax_example2
+//! Kalman filter consistent at its design covariance under three noise shapes, by NEES and NIS), minimax_example2
 //! (the minimax guarantee) and hinf_tradeoff (no trial above an H∞-λ or H2 filter's bound), and
 //! aniso_dropout's p = 0.95 variant, in-process (its SDPs are the slow part), keeps every
 //! anisotropic γ². A correct implementation fails each at most with probability α = 1e-3 (fixed
@@ -28,7 +28,10 @@ fn kinds(dir: &std::path::Path) -> Vec<(String, String)> {
 fn shipped_expectations_hold() {
     let tmp = TempDir::new();
     for (name, must) in [
-        ("kalman_baseline", &[("agrees_with_exact", "step mean vs exact"), ("consistent", "NEES")][..]),
+        (
+            "kalman_baseline",
+            &[("agrees_with_exact", "step mean vs exact"), ("consistent", "NEES"), ("consistent", "NIS")][..],
+        ),
         ("minimax_example2", &[("agrees_with_exact", "mean vs exact"), ("within_guarantee", "mean ≤ guaranteed")]),
         ("hinf_tradeoff", &[("agrees_with_exact", "mean vs exact"), ("within_guarantee", "per-trial violations")]),
     ] {
