@@ -145,7 +145,7 @@ pub(crate) struct StepView<'a> {
 /// x\[N] and every filter's final state.
 pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if lanes::avx2() {
         // SAFETY: the processor has AVX2, checked just above.
         return unsafe { simulate_avx2(sc, ws, first, active, visit) };
     }
