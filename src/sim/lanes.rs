@@ -21,25 +21,50 @@ use crate::numerics::linop::LinOp;
 /// noise) and double every per-thread buffer.
 pub(crate) const LANES: usize = 64;
 
-/// Set by [`force_baseline`]: the SSE2 code even where the processor has AVX2.
-static BASELINE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Whether the lane kernels run their AVX2 build (drawing and simulation are compiled twice from
-/// the same code, for the x86-64 baseline SSE2 and for AVX2, and must give the same bits).
-#[inline]
-pub(crate) fn avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    return !BASELINE.load(std::sync::atomic::Ordering::Relaxed) && std::arch::is_x86_feature_detected!("avx2");
-    #[allow(unreachable_code)]
-    false
+/// The builds of the lane kernels: drawing and simulation are compiled from the same code for the
+/// x86-64 baseline (SSE2), for AVX2 and for AVX-512, and every build gives the same bits (Rust
+/// never fuses a·b + c, and no kernel's order depends on the vector width).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Build {
+    Baseline = 1,
+    Avx2 = 2,
+    Avx512 = 3,
 }
 
-/// Makes every later block run the baseline (SSE2) build of drawing and simulation (`true`) or the
-/// AVX2 build where the processor has it (`false`, the default): for the tests that compare the
-/// two paths bit for bit.
+/// Set by [`force_build`]: 0 for the best build the processor has, else a cap on it.
+static FORCED: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
+
+/// The best build this processor runs.
+pub fn best_build() -> Build {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::is_x86_feature_detected as has;
+        if has!("avx512f") && has!("avx512vl") && has!("avx512dq") && has!("avx512bw") && has!("avx2") {
+            return Build::Avx512;
+        }
+        if has!("avx2") {
+            return Build::Avx2;
+        }
+    }
+    Build::Baseline
+}
+
+/// The build the lane kernels run now: the best one, unless [`force_build`] capped it.
+#[inline]
+pub(crate) fn build() -> Build {
+    let best = best_build();
+    match FORCED.load(std::sync::atomic::Ordering::Relaxed) {
+        1 => Build::Baseline,
+        2 => best.min(Build::Avx2),
+        _ => best,
+    }
+}
+
+/// Caps every later block's build at `cap` (`None`: the best the processor has, the default):
+/// for the tests that compare the builds bit for bit.
 #[doc(hidden)]
-pub fn force_baseline(on: bool) {
-    BASELINE.store(on, std::sync::atomic::Ordering::Relaxed);
+pub fn force_build(cap: Option<Build>) {
+    FORCED.store(cap.map_or(0, |b| b as u8), std::sync::atomic::Ordering::Relaxed);
 }
 
 /// One component of a vector across the lanes.

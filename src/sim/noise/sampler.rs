@@ -162,11 +162,20 @@ impl NoiseSampler {
     /// factor streams only where the plant draws from them) and draws x0 (and, for a joint input,
     /// the whole ξ).
     pub fn start(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
-        #[cfg(target_arch = "x86_64")]
-        if lanes::avx2() {
-            // SAFETY: the processor has AVX2, checked just above.
-            return unsafe { self.start_avx2(seed, scenario, first, active, out) };
+        match lanes::build() {
+            // SAFETY: build() names only a build whose features the processor has.
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx512 => unsafe { self.start_avx512(seed, scenario, first, active, out) },
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx2 => unsafe { self.start_avx2(seed, scenario, first, active, out) },
+            _ => self.start_lanes(seed, scenario, first, active, out),
         }
+    }
+
+    /// [`NoiseSampler::start`] compiled for AVX-512 (the same bits as the baseline build).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+    unsafe fn start_avx512(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
         self.start_lanes(seed, scenario, first, active, out)
     }
 
@@ -213,7 +222,7 @@ impl NoiseSampler {
     fn standard(&self, rng: &mut LaneRng, active: usize, u: &mut [Row]) {
         match self.draw {
             StandardDraw::Gaussian => {
-                // A plain loop, not a closure: it stays inside the caller's AVX2 build.
+                // A plain loop, not a closure: it stays inside the caller's vector build.
                 for r in u.iter_mut() {
                     ziggurat::normal_row(rng, r);
                 }
@@ -229,11 +238,20 @@ impl NoiseSampler {
     /// Draws step k of the block: w\[k], then θ\[k] (θ\[0] ~ p(0), θ\[k] ~ Π[θ\[k−1], ·], seed 001 (11))
     /// and ζ_i(k), each from its own stream.
     pub fn step(&self, k: usize, out: &mut LaneDraw) {
-        #[cfg(target_arch = "x86_64")]
-        if lanes::avx2() {
-            // SAFETY: the processor has AVX2, checked just above.
-            return unsafe { self.step_avx2(k, out) };
+        match lanes::build() {
+            // SAFETY: build() names only a build whose features the processor has.
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx512 => unsafe { self.step_avx512(k, out) },
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx2 => unsafe { self.step_avx2(k, out) },
+            _ => self.step_lanes(k, out),
         }
+    }
+
+    /// [`NoiseSampler::step`] compiled for AVX-512 (the same bits as the baseline build).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+    unsafe fn step_avx512(&self, k: usize, out: &mut LaneDraw) {
         self.step_lanes(k, out)
     }
 

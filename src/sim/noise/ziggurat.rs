@@ -6,7 +6,7 @@
 //! of the row as vector code; the lanes it rejects (about one in eighty) finish one by one on the
 //! scalar path, from their own streams. Each lane's value is therefore a function of its own
 //! stream only, and both paths use only IEEE-exact operations (no fused multiply–add), so the
-//! SSE2 and AVX2 builds give the same bits.
+//! SSE2, AVX2 and AVX-512 builds give the same bits.
 //!
 //! The tables are computed at compile time from the two constants of the paper, with exp, ln and
 //! sqrt written here from +, −, ×, ÷ alone: the same bits on every platform, whatever its libm.
@@ -195,14 +195,27 @@ pub fn normal_lane(rng: &mut LaneRng, lane: usize) -> f64 {
 }
 
 /// Rows `out` ← standard normals, row after row (so each lane draws its row-0 value first), with
-/// the AVX2 build where the processor has it (the sampler calls [`normal_row`] from inside its
-/// own AVX2 build instead).
+/// the best vector build the processor has (the sampler calls [`normal_row`] from inside its own
+/// vector build instead).
 pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
-    #[cfg(target_arch = "x86_64")]
-    if lanes::avx2() {
-        // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { normal_rows_avx2(rng, out) };
+    match lanes::build() {
+        // SAFETY: build() names only a build whose features the processor has.
+        #[cfg(target_arch = "x86_64")]
+        lanes::Build::Avx512 => unsafe { normal_rows_avx512(rng, out) },
+        #[cfg(target_arch = "x86_64")]
+        lanes::Build::Avx2 => unsafe { normal_rows_avx2(rng, out) },
+        _ => {
+            for r in out {
+                normal_row(rng, r);
+            }
+        }
     }
+}
+
+/// [`normal_rows`] compiled for AVX-512: eight lanes per instruction; the same bits as SSE2's.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+unsafe fn normal_rows_avx512(rng: &mut LaneRng, out: &mut [Row]) {
     for r in out {
         normal_row(rng, r);
     }
