@@ -17,7 +17,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "bench {}{}: {} filters, N = {}, {} trials per scenario, {} thread(s), {} trials per lane block",
+        "bench {}{}: {} filters, N = {}, {} trials per scenario, {} thread(s), {} trials per lane block, {:?} build",
         exp.name,
         exp.variant.as_deref().map_or(String::new(), |v| format!(" [{v}]")),
         filters.len(),
@@ -25,6 +25,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
         trials,
         rayon::current_num_threads(),
         BLOCK,
+        crate::sim::lanes::best_build(),
     );
     let lines = super::each_scenario(exp, &filters, |engine, p| {
         Ok(scenario(&p.scenario(engine), &exp.scenarios[p.index].name, trials))

@@ -150,11 +150,20 @@ pub(crate) struct StepView<'a> {
 /// gets e from ε and w directly; its ẑ is then z − e, for display only. On return `ws` holds
 /// x\[N] and every filter's final state.
 pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { simulate_avx2(sc, ws, first, active, visit) };
+    match lanes::build() {
+        // SAFETY: build() names only a build whose features the processor has.
+        #[cfg(target_arch = "x86_64")]
+        lanes::Build::Avx512 => unsafe { simulate_avx512(sc, ws, first, active, visit) },
+        #[cfg(target_arch = "x86_64")]
+        lanes::Build::Avx2 => unsafe { simulate_avx2(sc, ws, first, active, visit) },
+        _ => simulate_lanes(sc, ws, first, active, visit),
     }
+}
+
+/// [`simulate`] compiled for AVX-512: eight lanes per instruction, the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+unsafe fn simulate_avx512(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
     simulate_lanes(sc, ws, first, active, visit)
 }
 

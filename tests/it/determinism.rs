@@ -51,7 +51,7 @@ fn identical_bits_with_multiplicative_noise_and_dropouts() {
 }
 
 /// Every figure of the Monte Carlo statistics, as bits.
-fn bits(mc: &filterbench::sim::montecarlo::McStats) -> Vec<u64> {
+pub(crate) fn bits(mc: &filterbench::sim::montecarlo::McStats) -> Vec<u64> {
     let w = |w: &filterbench::sim::stats::Welford| [w.n, w.mean.to_bits(), w.variance().to_bits()];
     let mut out = Vec::new();
     for f in &mc.filters {

@@ -24,6 +24,7 @@ mod generators;
 mod hinf;
 mod hinf_sdp;
 mod kalman;
+mod lane_draws;
 mod lemma1;
 mod linear;
 mod long_horizon;

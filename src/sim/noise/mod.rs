@@ -4,8 +4,16 @@
 //! unit-variance draws to that covariance exactly.
 
 mod joint;
+mod lane_rng;
 mod sampler;
+mod ziggurat;
 
 pub use joint::JointInput;
+#[doc(hidden)]
+pub use lane_rng::LaneRng;
 pub(crate) use sampler::LaneDraw;
 pub use sampler::NoiseSampler;
+#[doc(hidden)]
+pub use sampler::{Stream, trial_rng};
+#[doc(hidden)]
+pub use ziggurat::{exp, ln, normal_lane, normal_row, normal_rows};

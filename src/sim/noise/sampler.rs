@@ -1,7 +1,9 @@
 //! The noise draw, a block of [`LANES`] trials at a time: x0 = m0 + L0 u0 and w\[k] = Lw u\[k] + w̄\[k]
 //! for k = 0..N, with u i.i.d. of the scenario's shape and L Lᵀ equal to the scenario's covariance
 //! (docs/math.md §7), then the plant's mode θ\[k] and its multiplicative factors ζ_i(k). Each lane draws its
-//! standardized scalars from its own trial's streams; the factors L are then applied to the whole
+//! standardized scalars from its own trial's streams, all lanes' streams stepped together
+//! ([`LaneRng`]); Gaussian rows are drawn a row of lanes at a time ([`ziggurat::normal_rows`]),
+//! other shapes lane by lane from the same streams. The factors L are then applied to the whole
 //! block with one product per step. Factors are computed once per scenario; a block draws into a
 //! preallocated [`LaneDraw`] and allocates nothing.
 
@@ -9,22 +11,25 @@ use rand::SeedableRng;
 use rand::rngs::Xoshiro256PlusPlus;
 
 use super::joint::JointInput;
+use super::lane_rng::LaneRng;
+use super::ziggurat;
 use crate::model::plant::{Covariances, Modes, Plant};
 use crate::model::shape::{Shape, StandardDraw};
 use crate::numerics::linalg::{Mat, Vector, psd_factor};
 use crate::numerics::linop::LinOp;
 use crate::sim::lanes::{self, LANES, Row};
 
-/// The generator of every trial stream: xoshiro256++ (rand's named, reproducible implementation).
-/// Measured against ChaCha8 (rand_chacha, and rand's SIMD chacha20) with rand_distr's ziggurat
+/// The generator of every trial stream: xoshiro256++, its state seeded as rand's
+/// `Xoshiro256PlusPlus::seed_from_u64` and stepped for all lanes at once by [`LaneRng`]. Measured
+/// against ChaCha8 (rand_chacha, and rand's SIMD chacha20) with rand_distr's ziggurat
 /// StandardNormal, seeding included: 3.4 ns per normal against 4.8–4.9 ns (docs/architecture.md).
-pub(crate) type TrialRng = Xoshiro256PlusPlus;
+pub type TrialRng = Xoshiro256PlusPlus;
 
 /// What a trial stream is drawn for. Separate streams keep the noise of a trial the same whether
 /// or not the plant switches modes or carries multiplicative factors, and let a lane draw step by
 /// step without fixing how the three kinds interleave.
 #[derive(Clone, Copy, Debug)]
-pub(crate) enum Stream {
+pub enum Stream {
     Noise = 0,
     Modes = 1,
     Factors = 2,
@@ -34,9 +39,14 @@ pub(crate) enum Stream {
 /// never on the thread or the block that runs it, so results are identical for any thread count.
 /// SplitMix64 (a bijection of u64) mixes them: distinct (trial, purpose) give distinct 64-bit
 /// seeds, which xoshiro's own SplitMix64 expansion turns into 256-bit states.
-pub(crate) fn trial_rng(seed: u64, scenario: usize, trial: u64, purpose: Stream) -> TrialRng {
+pub fn trial_rng(seed: u64, scenario: usize, trial: u64, purpose: Stream) -> TrialRng {
+    TrialRng::seed_from_u64(trial_seed(seed, scenario, trial, purpose))
+}
+
+/// The 64-bit seed of [`trial_rng`]'s stream, which [`LaneRng::seed_lane`] expands as it does.
+pub(crate) fn trial_seed(seed: u64, scenario: usize, trial: u64, purpose: Stream) -> u64 {
     let base = splitmix(seed ^ splitmix(scenario as u64 + 1));
-    TrialRng::seed_from_u64(splitmix(base ^ splitmix(trial.wrapping_mul(4) + purpose as u64)))
+    splitmix(base ^ splitmix(trial.wrapping_mul(4) + purpose as u64))
 }
 
 fn splitmix(mut z: u64) -> u64 {
@@ -66,7 +76,10 @@ pub struct NoiseSampler {
 /// One block's draws, step by step: x0 after [`NoiseSampler::start`], w\[k], θ\[k] and ζ_i(k) after
 /// [`NoiseSampler::step`]`(k)`. Lanes at and beyond `active` hold stale but finite values.
 pub struct LaneDraw {
-    rngs: Vec<[TrialRng; 3]>,
+    /// Each lane's noise, mode and factor streams ([`Stream`]).
+    noise: Box<LaneRng>,
+    mode_rng: Box<LaneRng>,
+    factor_rng: Box<LaneRng>,
     active: usize,
     pub x0: Vec<Row>,
     pub w: Vec<Row>,
@@ -121,7 +134,9 @@ impl NoiseSampler {
     pub fn lanes(&self) -> LaneDraw {
         let jd = self.joint.as_ref().map_or(0, JointInput::dim);
         LaneDraw {
-            rngs: vec![[0, 1, 2].map(|_| TrialRng::seed_from_u64(0)); LANES],
+            noise: LaneRng::new(),
+            mode_rng: LaneRng::new(),
+            factor_rng: LaneRng::new(),
             active: 0,
             x0: lanes::zeros(self.m0.len()),
             w: lanes::zeros(self.lw.nrows()),
@@ -143,18 +158,51 @@ impl NoiseSampler {
         }
     }
 
-    /// Starts the block of trials first..first+active: seeds each lane's streams and draws x0 (and,
-    /// for a joint input, the whole ξ).
+    /// Starts the block of trials first..first+active: seeds each lane's streams (the mode and
+    /// factor streams only where the plant draws from them) and draws x0 (and, for a joint input,
+    /// the whole ξ).
     pub fn start(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
+        match lanes::build() {
+            // SAFETY: build() names only a build whose features the processor has.
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx512 => unsafe { self.start_avx512(seed, scenario, first, active, out) },
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx2 => unsafe { self.start_avx2(seed, scenario, first, active, out) },
+            _ => self.start_lanes(seed, scenario, first, active, out),
+        }
+    }
+
+    /// [`NoiseSampler::start`] compiled for AVX-512 (the same bits as the baseline build).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+    unsafe fn start_avx512(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
+        self.start_lanes(seed, scenario, first, active, out)
+    }
+
+    /// [`NoiseSampler::start`] compiled for AVX2 (the same bits as the baseline build).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn start_avx2(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
+        self.start_lanes(seed, scenario, first, active, out)
+    }
+
+    #[inline(always)]
+    fn start_lanes(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
         debug_assert!(active <= LANES);
         out.active = active;
-        for (l, r) in out.rngs[..active].iter_mut().enumerate() {
+        for l in 0..active {
             let t = first + l as u64;
-            *r = [Stream::Noise, Stream::Modes, Stream::Factors].map(|s| trial_rng(seed, scenario, t, s));
+            out.noise.seed_lane(l, trial_seed(seed, scenario, t, Stream::Noise));
+            if self.chain.is_some() {
+                out.mode_rng.seed_lane(l, trial_seed(seed, scenario, t, Stream::Modes));
+            }
+            if !self.factors.is_empty() {
+                out.factor_rng.seed_lane(l, trial_seed(seed, scenario, t, Stream::Factors));
+            }
         }
         if let Some(j) = &self.joint {
-            for (l, r) in out.rngs[..active].iter_mut().enumerate() {
-                j.draw_lane(&mut r[0], &self.draw, l, &mut out.uj);
+            for l in 0..active {
+                j.draw_lane(&mut out.noise.lane(l), &self.draw, l, &mut out.uj);
             }
             j.map(&out.uj, &mut out.xi);
             let n = self.m0.len();
@@ -163,21 +211,59 @@ impl NoiseSampler {
             return;
         }
         let u0 = &mut out.u[..self.l0.ncols()];
-        self.standard(&mut out.rngs[..active], u0);
+        self.standard(&mut out.noise, active, u0);
         lanes::gemm(&self.l0, u0, false, &mut out.x0);
         lanes::add_vector(1.0, self.m0.as_slice(), &mut out.x0);
     }
 
-    /// u\[i]\[l] i.i.d. of the shape, lane l from its noise stream.
-    fn standard(&self, rngs: &mut [[TrialRng; 3]], u: &mut [Row]) {
-        for (l, r) in rngs.iter_mut().enumerate() {
-            self.draw.fill(&mut r[0], u.iter_mut().map(|row| &mut row[l]));
+    /// u\[i]\[l] i.i.d. of the shape, lane l from its noise stream (its row-0 value first): Gaussian
+    /// rows for all lanes at once, other shapes lane by lane.
+    #[inline(always)]
+    fn standard(&self, rng: &mut LaneRng, active: usize, u: &mut [Row]) {
+        match self.draw {
+            StandardDraw::Gaussian => {
+                // A plain loop, not a closure: it stays inside the caller's vector build.
+                for r in u.iter_mut() {
+                    ziggurat::normal_row(rng, r);
+                }
+            }
+            _ => {
+                for l in 0..active {
+                    self.draw.fill(&mut rng.lane(l), u.iter_mut().map(|row| &mut row[l]));
+                }
+            }
         }
     }
 
     /// Draws step k of the block: w\[k], then θ\[k] (θ\[0] ~ p(0), θ\[k] ~ Π[θ\[k−1], ·], seed 001 (11))
     /// and ζ_i(k), each from its own stream.
     pub fn step(&self, k: usize, out: &mut LaneDraw) {
+        match lanes::build() {
+            // SAFETY: build() names only a build whose features the processor has.
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx512 => unsafe { self.step_avx512(k, out) },
+            #[cfg(target_arch = "x86_64")]
+            lanes::Build::Avx2 => unsafe { self.step_avx2(k, out) },
+            _ => self.step_lanes(k, out),
+        }
+    }
+
+    /// [`NoiseSampler::step`] compiled for AVX-512 (the same bits as the baseline build).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+    unsafe fn step_avx512(&self, k: usize, out: &mut LaneDraw) {
+        self.step_lanes(k, out)
+    }
+
+    /// [`NoiseSampler::step`] compiled for AVX2 (the same bits as the baseline build).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn step_avx2(&self, k: usize, out: &mut LaneDraw) {
+        self.step_lanes(k, out)
+    }
+
+    #[inline(always)]
+    fn step_lanes(&self, k: usize, out: &mut LaneDraw) {
         let active = out.active;
         match &self.joint {
             Some(_) => {
@@ -192,7 +278,7 @@ impl NoiseSampler {
             }
             None => {
                 let u = &mut out.u[..self.lw.ncols()];
-                self.standard(&mut out.rngs[..active], u);
+                self.standard(&mut out.noise, active, u);
                 lanes::apply(&self.lw, u, false, &mut out.w);
                 if let Some(m) = &self.w_mean {
                     lanes::add_vector(1.0, &m.as_slice()[k * m.nrows()..(k + 1) * m.nrows()], &mut out.w);
@@ -200,18 +286,19 @@ impl NoiseSampler {
             }
         }
         if let Some(chain) = &self.chain {
-            for (l, r) in out.rngs[..active].iter_mut().enumerate() {
+            for l in 0..active {
+                let r = &mut out.mode_rng.lane(l);
                 let th = &mut out.modes[l];
                 *th = if k == 0 {
-                    pick(&mut r[1], chain.initial.iter().copied())
+                    pick(r, chain.initial.iter().copied())
                 } else {
-                    pick(&mut r[1], chain.transition.row(*th as usize).iter().copied())
+                    pick(r, chain.transition.row(*th as usize).iter().copied())
                 };
             }
         }
         for (i, f) in self.factors.iter().enumerate() {
-            for (l, r) in out.rngs[..active].iter_mut().enumerate() {
-                out.zeta[i][l] = f.draw(&mut r[2]);
+            for l in 0..active {
+                out.zeta[i][l] = f.draw(&mut out.factor_rng.lane(l));
             }
         }
     }

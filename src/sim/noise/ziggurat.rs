@@ -1,0 +1,231 @@
+//! Standard normal draws for a whole lane row at once (docs/math.md §7; docs/architecture.md,
+//! "Drawing"): Marsaglia and Tsang's 256-layer ziggurat (J. Stat. Softw. 5(8), 2000), in the form
+//! rand_distr uses — one u64 per try, its low 8 bits the layer i and its high 52 bits a uniform
+//! u ∈ [−1, 1), so the two are independent (Doornik's remark on ZIGNOR) — exact in distribution.
+//! The fast path (x = u·X\[i], accepted when |x| < X\[i+1], 98.8 % of tries) runs over every lane
+//! of the row as vector code; the lanes it rejects (about one in eighty) finish one by one on the
+//! scalar path, from their own streams. Each lane's value is therefore a function of its own
+//! stream only, and both paths use only IEEE-exact operations (no fused multiply–add), so the
+//! SSE2, AVX2 and AVX-512 builds give the same bits.
+//!
+//! The tables are computed at compile time from the two constants of the paper, with exp, ln and
+//! sqrt written here from +, −, ×, ÷ alone: the same bits on every platform, whatever its libm.
+
+use super::lane_rng::LaneRng;
+use crate::sim::lanes::{self, LANES, Row};
+
+/// r, the start of the tail, and v, the area of each layer, for 256 layers (Marsaglia–Tsang 2000).
+const R: f64 = 3.654_152_885_361_008_8;
+const V: f64 = 0.004_928_673_233_99;
+
+const LN2_HI: f64 = 6.931_471_803_691_238_2e-1;
+const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
+
+/// 1/n! for n = 0..=13.
+const INV_FACTORIAL: [f64; 14] = {
+    let mut c = [1.0; 14];
+    let mut n = 1;
+    while n < 14 {
+        c[n] = c[n - 1] / n as f64;
+        n += 1;
+    }
+    c
+};
+
+/// e^x for −700 < x < 700: x = k ln 2 + r with |r| ≤ ln 2 / 2 (ln 2 in two parts, so k ln 2 is
+/// exact to 2⁻⁸⁰), e^r by its Taylor polynomial of degree 13 (remainder below 5·10⁻¹⁸ relative)
+/// in Estrin's form (four dependent steps instead of Horner's thirteen: the ziggurat's wedges
+/// wait on it), then 2^k.
+pub const fn exp(x: f64) -> f64 {
+    let t = x * std::f64::consts::LOG2_E;
+    let k = if t >= 0.0 { (t + 0.5) as i64 } else { (t - 0.5) as i64 };
+    let kf = k as f64;
+    let r = (x - kf * LN2_HI) - kf * LN2_LO;
+    let c = &INV_FACTORIAL;
+    let (r2, r4) = (r * r, r * r * (r * r));
+    let p01 = c[0] + c[1] * r;
+    let p23 = c[2] + c[3] * r;
+    let p45 = c[4] + c[5] * r;
+    let p67 = c[6] + c[7] * r;
+    let p89 = c[8] + c[9] * r;
+    let p1011 = c[10] + c[11] * r;
+    let p1213 = c[12] + c[13] * r;
+    let lo = (p01 + p23 * r2) + (p45 + p67 * r2) * r4;
+    let hi = (p89 + p1011 * r2) + p1213 * r4;
+    (lo + hi * (r4 * r4)) * f64::from_bits(((1023 + k) as u64) << 52)
+}
+
+/// ln x for a positive normal x: x = m 2^e with m ∈ [√½, √2), ln m = 2 atanh s with
+/// s = (m−1)/(m+1), |s| < 0.172, by its series to s⁴¹ (remainder below 10⁻³²).
+pub const fn ln(x: f64) -> f64 {
+    let bits = x.to_bits();
+    let mut e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let mut m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | (1023 << 52));
+    if m > std::f64::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let s = (m - 1.0) / (m + 1.0);
+    let s2 = s * s;
+    let mut p = 0.0;
+    let mut n = 41;
+    while n > 1 {
+        p = s2 * (1.0 / n as f64 + p);
+        n -= 2;
+    }
+    let ef = e as f64;
+    ef * LN2_HI + (ef * LN2_LO + 2.0 * s * (1.0 + p))
+}
+
+/// √x for x > 0 by Newton's iteration from a start within a factor 2, to convergence.
+const fn sqrt(x: f64) -> f64 {
+    let e = ((x.to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    let mut y = f64::from_bits(((1023 + e / 2) as u64) << 52);
+    let mut i = 0;
+    while i < 60 {
+        y = 0.5 * (y + x / y);
+        i += 1;
+    }
+    y
+}
+
+/// The unnormalized density e^(−x²/2).
+const fn pdf(x: f64) -> f64 {
+    exp(-x * x / 2.0)
+}
+
+/// X\[i], the right edge of layer i (X\[0] = v/f(r) for the base layer with its tail, X\[1] = r,
+/// X\[256] = 0), and F\[i] = f(X\[i]).
+struct Tables {
+    x: [f64; 257],
+    f: [f64; 257],
+}
+
+const fn tables() -> Tables {
+    let mut x = [0.0; 257];
+    let mut f = [0.0; 257];
+    x[0] = V / pdf(R);
+    x[1] = R;
+    let mut i = 2;
+    while i < 256 {
+        x[i] = sqrt(-2.0 * ln(V / x[i - 1] + pdf(x[i - 1])));
+        i += 1;
+    }
+    let mut i = 0;
+    while i < 257 {
+        f[i] = pdf(x[i]);
+        i += 1;
+    }
+    Tables { x, f }
+}
+
+static TABLES: Tables = tables();
+
+/// The bits 2.0 has: or-ed with 52 random mantissa bits, a uniform double in [2, 4).
+const TWO: u64 = 0x4000_0000_0000_0000;
+
+/// One try's layer and x from its u64: i = the low 8 bits, u = the high 52 bits as a uniform in
+/// [−1, 1), x = u X\[i].
+#[inline(always)]
+fn try_of(bits: u64) -> (usize, f64, f64) {
+    let i = (bits & 0xff) as usize;
+    let u = f64::from_bits((bits >> 12) | TWO) - 3.0;
+    (i, u, u * TABLES.x[i])
+}
+
+/// A uniform in (0, 1) from one u64 (rand's `Open01`).
+fn open01(bits: u64) -> f64 {
+    f64::from_bits((bits >> 12) | 0x3FF0_0000_0000_0000) - (1.0 - f64::EPSILON / 2.0)
+}
+
+/// Finishes lane `lane`'s normal whose first try `bits` the fast path rejected: the base layer's
+/// tail beyond r by Marsaglia's exponential method, a wedge by comparing a uniform height with the
+/// density, and a fresh try (fast path included) after a rejected wedge.
+fn slow(rng: &mut LaneRng, lane: usize, mut bits: u64) -> f64 {
+    loop {
+        let (i, u, x) = try_of(bits);
+        if x.abs() < TABLES.x[i + 1] {
+            return x;
+        }
+        if i == 0 {
+            let (mut t, mut y) = (1.0, 0.0);
+            while -2.0 * y < t * t {
+                t = ln(open01(rng.next_lane(lane))) / R;
+                y = ln(open01(rng.next_lane(lane)));
+            }
+            return if u < 0.0 { t - R } else { R - t };
+        }
+        // A uniform in [0, 1) from 53 bits (rand's StandardUniform for f64).
+        let h = (rng.next_lane(lane) >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+        if TABLES.f[i + 1] + (TABLES.f[i] - TABLES.f[i + 1]) * h < pdf(x) {
+            return x;
+        }
+        bits = rng.next_lane(lane);
+    }
+}
+
+/// Row `out` ← one standard normal per lane, each from its lane's stream: the fast path over the
+/// whole row, then the rejected lanes one by one.
+#[inline(always)]
+pub fn normal_row(rng: &mut LaneRng, out: &mut Row) {
+    let mut bits = [0u64; LANES];
+    rng.next_row(&mut bits);
+    let mut rejected = [0u8; LANES];
+    for ((o, &b), r) in out.iter_mut().zip(&bits).zip(&mut rejected) {
+        let (i, _, x) = try_of(b);
+        *o = x;
+        *r = u8::from(x.abs() >= TABLES.x[i + 1]);
+    }
+    // Eight lanes' flags per word: most words are zero (each lane is rejected with p ≈ 1.2 %).
+    for (w, flags) in rejected.chunks_exact(8).enumerate() {
+        let mut word = u64::from_le_bytes(flags.try_into().expect("eight flags"));
+        while word != 0 {
+            let l = 8 * w + word.trailing_zeros() as usize / 8;
+            out[l] = slow(rng, l, bits[l]);
+            word &= word - 1;
+        }
+    }
+}
+
+/// One standard normal from lane `lane` alone, on the scalar path only: the same draw
+/// [`normal_row`] gives that lane (tests check it).
+pub fn normal_lane(rng: &mut LaneRng, lane: usize) -> f64 {
+    let b = rng.next_lane(lane);
+    slow(rng, lane, b)
+}
+
+/// Rows `out` ← standard normals, row after row (so each lane draws its row-0 value first), with
+/// the best vector build the processor has (the sampler calls [`normal_row`] from inside its own
+/// vector build instead).
+pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
+    match lanes::build() {
+        // SAFETY: build() names only a build whose features the processor has.
+        #[cfg(target_arch = "x86_64")]
+        lanes::Build::Avx512 => unsafe { normal_rows_avx512(rng, out) },
+        #[cfg(target_arch = "x86_64")]
+        lanes::Build::Avx2 => unsafe { normal_rows_avx2(rng, out) },
+        _ => {
+            for r in out {
+                normal_row(rng, r);
+            }
+        }
+    }
+}
+
+/// [`normal_rows`] compiled for AVX-512: eight lanes per instruction; the same bits as SSE2's.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+unsafe fn normal_rows_avx512(rng: &mut LaneRng, out: &mut [Row]) {
+    for r in out {
+        normal_row(rng, r);
+    }
+}
+
+/// [`normal_rows`] compiled for AVX2: four lanes per instruction; the same bits as SSE2's.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn normal_rows_avx2(rng: &mut LaneRng, out: &mut [Row]) {
+    for r in out {
+        normal_row(rng, r);
+    }
+}
