@@ -28,7 +28,7 @@ pub struct Engine<'a> {
     pub reals: Vec<&'a Realization>,
     pub ops: PlantOps,
     pub ratios: Option<RatioCheck<'a>>,
-    pub nees: Vec<Option<Vec<Option<Mat>>>>,
+    pub nees: Vec<Option<&'a [Option<Mat>]>>,
 }
 
 impl<'a> Engine<'a> {
@@ -39,7 +39,7 @@ impl<'a> Engine<'a> {
             reals: filters.iter().map(|f| &f.design.realization).collect(),
             ops: PlantOps::new(&exp.plant),
             ratios: ratio_check(exp, filters),
-            nees: filters.iter().map(|f| f.nees_weights.clone()).collect(),
+            nees: filters.iter().map(|f| f.nees_weights.as_deref()).collect(),
         }
     }
 

@@ -21,8 +21,9 @@ pub struct Scenario<'a> {
     pub index: usize,
     /// Per-trial ratio checks (seed 002), if any filter has one.
     pub ratios: Option<&'a RatioCheck<'a>>,
-    /// Per filter, the NEES weights W\[k] of a filter with a claimed covariance (empty: none).
-    pub nees: &'a [Option<Vec<Option<Mat>>>],
+    /// Per filter, the NEES weights W\[k] of a filter with a claimed covariance (empty: none),
+    /// borrowed from the designs: a long horizon has one matrix per step and filter.
+    pub nees: &'a [Option<&'a [Option<Mat>]>],
     /// Per filter, its error form when it is simulated in error coordinates ε = s − M x (the plant's
     /// state is then never differenced); empty or None: the filter's own state s.
     pub forms: &'a [Option<ErrorForm>],
@@ -30,7 +31,7 @@ pub struct Scenario<'a> {
 
 impl Scenario<'_> {
     pub(super) fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
-        self.nees.get(f)?.as_deref()
+        *self.nees.get(f)?
     }
     pub(super) fn form(&self, f: usize) -> Option<&ErrorForm> {
         self.forms.get(f).and_then(Option::as_ref)
