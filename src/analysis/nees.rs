@@ -24,11 +24,12 @@ fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
     let mut p = plant.clone();
     p.cz = plant.cz.map(|m| u * m);
     p.dz = plant.dz.map(|m| u * m);
+    // The clone shares the gains; `map_gains` copies each distinct step once.
     let mut r = real.clone();
-    for g in r.gains.iter_mut().flatten() {
+    r.map_gains(|g| {
         g.cf = u * &g.cf;
         g.df = u * &g.df;
-    }
+    });
     (p, r)
 }
 
