@@ -65,10 +65,18 @@ pub fn innovation_system(plant: &Plant, real: &Realization) -> Option<(Plant, Re
         p.dz = Steps::per_step((0..steps).map(|k| plant.d_at(k).into_owned()).collect());
     }
     let mut r = real.clone();
-    for (k, g) in r.gains.iter_mut().enumerate() {
-        for g in g.iter_mut() {
-            g.cf = c[k].clone();
+    if c.iter().all(|ck| *ck == c[0]) {
+        // One C: settled steps keep sharing their gains (`Realization::map_gains`).
+        r.map_gains(|g| {
+            g.cf = c[0].clone();
             g.df = Mat::zeros(ny, ny);
+        });
+    } else {
+        for (k, ck) in c.iter().enumerate() {
+            for g in r.gains_mut(k).iter_mut() {
+                g.cf = ck.clone();
+                g.df = Mat::zeros(ny, ny);
+            }
         }
     }
     Some((p, r))
@@ -79,11 +87,12 @@ fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
     let mut p = plant.clone();
     p.cz = plant.cz.map(|m| u * m);
     p.dz = plant.dz.map(|m| u * m);
+    // The clone shares the gains; `map_gains` copies each distinct step once.
     let mut r = real.clone();
-    for g in r.gains.iter_mut().flatten() {
+    r.map_gains(|g| {
         g.cf = u * &g.cf;
         g.df = u * &g.df;
-    }
+    });
     (p, r)
 }
 

@@ -18,7 +18,7 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::filter::design::{Design, DesignInput};
-use crate::filter::realization::{Gains, Realization};
+use crate::filter::realization::{Gains, Realization, push_step};
 use crate::model::choice::CovChoiceFile;
 use crate::model::plant::Pattern;
 use crate::model::plant::{Covariances, Plant, Steps};
@@ -153,6 +153,7 @@ fn recursion<E>(
 ) -> std::result::Result<Realization, (usize, E)> {
     let mut w = cov.w();
     let mut pbar = cov.x0().clone();
+    // Appended step by step, so a steady state's repeated gains are never held (filter::realization).
     let mut steps = Vec::with_capacity(plant.steps());
     for k in 0..plant.steps() {
         // A disturbance surrogate with time-varying weights (seed 000 eq (39)): W[k] per step.
@@ -168,14 +169,16 @@ fn recursion<E>(
         };
         let inn = step(plant.a_at(k), c, &pbar, &(d * &wd), &(plant.b_at(k) * &wd), &lz_rhs).map_err(|e| (k, e))?;
         let predictor = Gains::predictor(plant.a_at(k), c, &inn.k, plant.cz_at(k));
-        steps.push(match pattern {
+        let gains = match pattern {
             Pattern::Filtering => {
                 let lz = inn.right_solve(&lz_rhs);
                 Gains { cf: plant.cz_at(k) - &lz * c, df: lz, ..predictor }
             }
             Pattern::Prediction => predictor,
-        });
+        };
+        push_step(&mut steps, vec![gains]);
         pbar = symmetrize(&riccati::propagate(plant.a_at(k), &pbar, &bwb, &inn.k, &inn.s));
     }
-    Ok(Realization::state_estimator(plant.x0_mean.clone(), steps))
+    let n = plant.x0_mean.len();
+    Ok(Realization::from_shared(plant.x0_mean.clone(), steps).tracking(Mat::identity(n, n)))
 }

@@ -6,6 +6,14 @@
 //! with s\[0] = s0 and gains that do not depend on the data. The Monte Carlo engine and the exact
 //! analysis only ever see this. A mode-indexed realization (seed 001) has one set of gains per
 //! (step, mode) and at step k uses those of the mode θ\[k] it observes.
+//!
+//! A step whose gains are bit-identical to the step before's shares its allocation (a filter in its
+//! steady state stores it once), so a long horizon of a time-invariant filter costs a pointer per
+//! step, not five matrices (docs/architecture.md, "Memory"). Sharing changes no number: it is
+//! decided on the bits, and every change goes through [`Realization::gains_mut`] or
+//! [`Realization::map_gains`], which copy a shared step before writing it.
+
+use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::model::plant::Pattern;
@@ -36,6 +44,30 @@ impl Gains {
     pub fn predictor(a: &Mat, c: &Mat, k: &Mat, cz: &Mat) -> Self {
         Self::predicting(a - k * c, k.clone(), cz)
     }
+    fn matrices(&self) -> [&Mat; 5] {
+        [&self.af, &self.bf, &self.cf, &self.df, &self.gf]
+    }
+}
+
+/// Whether two steps' gains are the same bits (shapes and every entry, so −0 ≠ 0 and NaN = NaN).
+fn same_bits(a: &[Gains], b: &[Gains]) -> bool {
+    let mat =
+        |m: &Mat, n: &Mat| m.shape() == n.shape() && m.iter().zip(n.iter()).all(|(x, y)| x.to_bits() == y.to_bits());
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(g, h)| g.matrices().into_iter().zip(h.matrices()).all(|(m, n)| mat(m, n)))
+}
+
+/// Appends step k's gains (one set per mode, or one) to `steps`, sharing step k − 1's allocation
+/// when they are bit-identical: a recursion that builds a long horizon calls it step by step, so it
+/// never holds the repeated steps.
+pub fn push_step(steps: &mut Vec<Arc<Vec<Gains>>>, gains: Vec<Gains>) {
+    match steps.last() {
+        Some(prev) if same_bits(prev, &gains) => {
+            let shared = Arc::clone(prev);
+            steps.push(shared);
+        }
+        _ => steps.push(Arc::new(gains)),
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -43,7 +75,9 @@ pub struct Realization {
     pub s0: Vector,
     /// gains\[k]\[θ] for k = 0..=N (the Af, Bf, Gf of step N are never used): one entry per mode of
     /// the plant for a mode-indexed realization, a single entry (used in every mode) otherwise.
-    pub gains: Vec<Vec<Gains>>,
+    /// Consecutive bit-identical steps share one allocation (module docs): change them with
+    /// [`Realization::gains_mut`] or [`Realization::map_gains`] only.
+    pub gains: Vec<Arc<Vec<Gains>>>,
     /// M: what the filter's state tracks, s\[k] ≈ M x\[k] (the identity for a state estimator), if
     /// the family declares it. The exact analysis and the Monte Carlo may then carry ε = s − M x
     /// instead of s, but only at steps and modes where they have checked that the realization
@@ -53,7 +87,11 @@ pub struct Realization {
 
 impl Realization {
     pub fn new(s0: Vector, steps: Vec<Gains>) -> Self {
-        Realization { s0, gains: steps.into_iter().map(|g| vec![g]).collect(), tracks: None }
+        Realization::mode_indexed(s0, steps.into_iter().map(|g| vec![g]).collect())
+    }
+    /// A realization from steps already appended with [`push_step`], one set of gains per step.
+    pub fn from_shared(s0: Vector, steps: Vec<Arc<Vec<Gains>>>) -> Self {
+        Realization { s0, gains: steps, tracks: None }
     }
     /// A state estimator, one set of gains per step: its state tracks x (M = I).
     pub fn state_estimator(s0: Vector, steps: Vec<Gains>) -> Self {
@@ -67,7 +105,34 @@ impl Realization {
     }
     /// A realization that uses the gains of the observed mode: `by_mode[k][θ]`.
     pub fn mode_indexed(s0: Vector, by_mode: Vec<Vec<Gains>>) -> Self {
-        Realization { s0, gains: by_mode, tracks: None }
+        let mut steps = Vec::with_capacity(by_mode.len());
+        for g in by_mode {
+            push_step(&mut steps, g);
+        }
+        Realization::from_shared(s0, steps)
+    }
+    /// The gains of step k (one set per mode, or one), to change: a step shared with its
+    /// neighbours is copied first, so the change is to step k alone.
+    pub fn gains_mut(&mut self, k: usize) -> &mut Vec<Gains> {
+        Arc::make_mut(&mut self.gains[k])
+    }
+    /// Applies `f` to every set of gains of every step, once per shared allocation (the steps that
+    /// share one are the same bits, so `f` gives them the same result and they stay shared).
+    pub fn map_gains(&mut self, f: impl Fn(&mut Gains)) {
+        let mut last: Option<(Arc<Vec<Gains>>, Arc<Vec<Gains>>)> = None;
+        for slot in &mut self.gains {
+            if let Some((old, new)) = &last
+                && Arc::ptr_eq(slot, old)
+            {
+                *slot = Arc::clone(new);
+                continue;
+            }
+            let old = Arc::clone(slot);
+            let mut gains = (**slot).clone();
+            gains.iter_mut().for_each(&f);
+            *slot = Arc::new(gains);
+            last = Some((old, Arc::clone(slot)));
+        }
     }
     /// Whether the gains depend on the observed mode.
     /// Feeds every number of the realization (s0, every gain matrix of every step and mode, and
@@ -75,8 +140,8 @@ impl Realization {
     pub(crate) fn digest(&self, h: &mut impl sha2::Digest) {
         let mut mat = |m: &Mat| digest_mat(h, m);
         mat(&Mat::from_column_slice(self.s0.len(), 1, self.s0.as_slice()));
-        for g in self.gains.iter().flatten() {
-            for m in [&g.af, &g.bf, &g.cf, &g.df, &g.gf] {
+        for g in self.gains.iter().flat_map(|g| g.iter()) {
+            for m in g.matrices() {
                 mat(m);
             }
         }

@@ -19,8 +19,9 @@ const GAIN_ROW: u64 = 64;
 const TABLE_ROWS: u64 = 2 * 512 * 512;
 /// Bytes a small matrix costs beyond its entries (its header and the allocator's).
 const MATRIX: u64 = 64;
-/// Bytes of one step's set of gains beyond its five matrices (the vector holding it).
-const GAINS_SET: u64 = 40;
+/// Bytes of one step's gains beyond its sets' matrices: its pointer, the shared allocation's
+/// counts and the vector of sets (`filter::realization`).
+const GAINS_STEP: u64 = 72;
 /// Bytes per (scenario, filter) of the recording's series, whatever the horizon: at most 4097
 /// rows (longer horizons are decimated to 2049 buckets, docs/output-columns.md) of up to three
 /// values, their steps and the envelope.
@@ -41,7 +42,8 @@ fn sat(xs: &[u64]) -> u64 {
     xs.iter().fold(1u64, |a, &x| a.saturating_mul(x))
 }
 
-/// The peak memory of the run, from its sizes: the designed gains of every filter at every step,
+/// The peak memory of the run, from its sizes: the designed gains of every filter at every step
+/// (as if no two steps were the same, so an upper bound for a filter that reaches a steady state),
 /// with its NEES weights and, while they are computed, one projected copy of its gains per filter
 /// (the designs run in parallel); the Monte Carlo accumulators (per step and filter, for a wave of
 /// blocks cut to fit `WAVE_BYTES` on a long horizon, the reduction tree's nodes and the total); what
@@ -61,8 +63,12 @@ pub fn estimate(exp: &Experiment) -> Estimate {
     for fp in &footprints {
         let (ns, sets) = (fp.state as u64, fp.gain_sets as u64);
         let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
-        // Each of the five matrices of a step is its own allocation.
-        let gains = sat(&[steps, sets, entries.saturating_mul(8).saturating_add(5 * MATRIX + GAINS_SET)]);
+        // Each of the five matrices of a step is its own allocation. Every step is counted as
+        // distinct: before the design nothing tells whether the gains settle, and a steady state
+        // (shared, `filter::realization`) then costs less than this.
+        let per_step =
+            sets.saturating_mul(entries.saturating_mul(8).saturating_add(5 * MATRIX)).saturating_add(GAINS_STEP);
+        let gains = steps.saturating_mul(per_step);
         // Its NEES and NIS weights per step, and a copy of its gains to project the output on
         // (analysis::nees).
         let weights = sat(&[steps, (nz * nz + ny * ny) * 8 + 2 * MATRIX]);
@@ -79,7 +85,7 @@ pub fn estimate(exp: &Experiment) -> Estimate {
     let levels = 64 - u64::from(blocks.leading_zeros()) + 1;
     let live = per_block.saturating_mul(wave + levels + 1);
     let traj = sat(&[nsc, exp.sample_trajectories as u64, (nf + 1) * nz * 8 + 8, steps]);
-    let kept = sat(&[nsc, nf, steps, 2 * WELFORD + KEPT_STEP]).saturating_add(traj);
+    let kept = sat(&[nsc, nf, steps, 3 * WELFORD + KEPT_STEP]).saturating_add(traj);
     let rows_of_gains = footprints.iter().map(|f| (f.state * (f.state + ny as usize + nz as usize) + 1) as u64);
     let table = TABLE_ROWS * STEP_ROW + rows_of_gains.max().unwrap_or(0).min(TABLE_ROWS) * GAIN_ROW;
     let recording = sat(&[nsc, nf, RECORDED]);

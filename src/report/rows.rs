@@ -133,7 +133,7 @@ pub(crate) fn gains<'a>(
     let sets: Vec<(usize, Option<u32>, &crate::filter::realization::Gains)> = if !r.is_mode_indexed() {
         ks.map(|k| (k, None, &r.gains[k][0])).collect()
     } else {
-        ks.map(|k| (k, &r.gains[k]))
+        ks.map(|k| (k, r.gains[k].as_slice()))
             .flat_map(|(k, gs)| gs.iter().enumerate().map(move |(j, g)| (k, Some(j as u32), g)))
             .collect()
     };

@@ -21,7 +21,8 @@ pub struct Scenario<'a> {
     pub index: usize,
     /// Per-trial ratio checks (seed 002), if any filter has one.
     pub ratios: Option<&'a RatioCheck<'a>>,
-    /// Per filter, the NEES weights W\[k] of a filter with a claimed covariance (empty: none).
+    /// Per filter, the NEES weights W\[k] of a filter with a claimed covariance (empty: none),
+    /// borrowed from the designs: a long horizon has one matrix per step and filter.
     pub nees: &'a [Option<&'a [Option<Mat>]>],
     /// Per filter, the NIS weights of a filter with an innovation and a claimed S\[k] (empty: none).
     pub nis: &'a [Option<&'a [Option<Mat>]>],

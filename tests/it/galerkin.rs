@@ -275,9 +275,7 @@ fn tiny_alpha_is_solved_accurately_not_truncated() {
     let mut dd = filterbench::filter::realization::Realization::state_estimator(product.s0.clone(), steps);
     dd.tracks = None;
     let mut zero = dd.clone();
-    for g in zero.gains.iter_mut().flatten() {
-        (g.bf, g.cf, g.df) = (0.0 * &g.bf, 0.0 * &g.cf, 0.0 * &g.df);
-    }
+    zero.map_gains(|g| (g.bf, g.cf, g.df) = (0.0 * &g.bf, 0.0 * &g.cf, 0.0 * &g.df));
     let n = exp.plant.steps() as f64;
     let on_truth = |r| exact::error(&exp.plant, r, &exp.nominal).total / n;
     let (ours, theirs, variance) = (on_truth(product), on_truth(&dd), on_truth(&zero));

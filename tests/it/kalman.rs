@@ -86,15 +86,15 @@ fn perturbing_any_gain_increases_the_exact_error() {
                 let g: f64 = StandardNormal.sample(&mut rng);
                 0.05 * g
             });
-            r.gains[k][0].bf += &dl;
-            r.gains[k][0].af -= &dl * pl.c.at(0);
+            r.gains_mut(k)[0].bf += &dl;
+            r.gains_mut(k)[0].af -= &dl * pl.c.at(0);
             if pattern == Pattern::Filtering {
                 let dz = Mat::from_fn(3, 1, |_, _| {
                     let g: f64 = StandardNormal.sample(&mut rng);
                     0.05 * g
                 });
-                r.gains[k][0].df += &dz;
-                r.gains[k][0].cf -= &dz * pl.c.at(0);
+                r.gains_mut(k)[0].df += &dz;
+                r.gains_mut(k)[0].cf -= &dz * pl.c.at(0);
             }
             let j = exact::error(pl, &r, nom).total;
             assert!(j > j0, "{pattern:?}: a perturbed gain at step {k} gives {j} ≤ the Kalman error {j0}");

@@ -35,6 +35,7 @@ mod nees;
 mod noise_free;
 mod output_safety;
 mod promises;
+mod realization_sharing;
 mod recording;
 mod sdp;
 mod shards;

@@ -160,7 +160,7 @@ fn kalman_is_optimal_on_a_time_varying_plant() {
         for k in [0, 7, 15, 29] {
             for delta in [1e-3, -1e-3] {
                 let mut r = real.clone();
-                let g = &mut r.gains[k][0];
+                let g = &mut r.gains_mut(k)[0];
                 g.bf[(0, 0)] += delta;
                 g.af[(0, 0)] -= delta * exp.plant.c_at(k)[(0, 0)];
                 g.af[(0, 1)] -= delta * exp.plant.c_at(k)[(0, 1)];

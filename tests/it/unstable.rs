@@ -328,7 +328,7 @@ fn a_declared_m_that_does_not_hold_is_not_used() {
     let mut exp = common::baseline(10);
     exp.plant.a = filterbench::model::plant::Steps::constant(Mat::identity(3, 3) * 1.5);
     let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
-    real.gains[10][0].af[(0, 0)] += 1e-3;
+    real.gains_mut(10)[0].af[(0, 0)] += 1e-3;
     let why = exact::error_form(&exp.plant, &real).expect_err("the identity is checked");
     assert!(why.contains("step 10") && why.contains("Af M + Bf C − M A"), "{why}");
     let e = exact::error(&exp.plant, &real, &exp.nominal);
@@ -343,7 +343,7 @@ fn an_error_double_precision_cannot_resolve_is_refused_with_the_step_and_digits(
     exp.plant.a = filterbench::model::plant::Steps::constant(Mat::identity(3, 3) * 1.5);
     exp.plant.horizon = 100;
     let mut real = pipeline::design_all(&exp).expect("designs")[0].design.realization.clone();
-    real.gains[1][0].af[(0, 0)] += 1e-7;
+    real.gains_mut(1)[0].af[(0, 0)] += 1e-7;
     let e = exact::error(&exp.plant, &real, &exp.nominal);
     let msg = e.trusted("perturbed").expect_err("refused").to_string();
     assert!(

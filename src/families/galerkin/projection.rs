@@ -71,9 +71,7 @@ pub fn realization(
     let mut realization = crate::families::kalman::kalman_pd(&fplant, &fcov, Pattern::Filtering)?;
     // The string has no known input, and the projected model's Gf (2n × 2n) would not fit the
     // truth's r (2M): none at all.
-    for g in realization.gains.iter_mut().flatten() {
-        g.gf = Mat::zeros(2 * n, 0);
-    }
+    realization.map_gains(|g| g.gf = Mat::zeros(2 * n, 0));
     // Its state tracks the projected model's, not the truth's modes: declare no M (the string is
     // stable, so the plant-coordinate recursion resolves its error).
     realization.tracks = None;
