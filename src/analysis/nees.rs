@@ -20,6 +20,8 @@
 //! (5.6)–(5.7)). ν is the output error of the [`innovation_system`], so both moments come from the
 //! same exact recursions.
 
+use std::sync::Arc;
+
 use crate::analysis::exact::ExactError;
 use crate::error::Result;
 use crate::filter::realization::Realization;
@@ -32,7 +34,7 @@ use crate::numerics::linalg::{Mat, PSD_TOL};
 #[derive(Clone, Debug)]
 pub struct Normalized {
     /// None at a step where the filter claims nothing (then the ratio means nothing).
-    pub weights: Vec<Option<Mat>>,
+    pub weights: Vec<Option<Arc<Mat>>>,
     pub ranks: Vec<usize>,
 }
 
@@ -55,7 +57,9 @@ pub fn innovation_system(plant: &Plant, real: &Realization) -> Option<(Plant, Re
         return None;
     }
     let steps = plant.steps();
-    let c: Vec<Mat> = (0..steps).map(|k| plant.c_at(k).into_owned()).collect();
+    let constant = plant.first_measurement == 0 && (1..steps).all(|k| plant.c.at(k) == plant.c.at(0));
+    let c: Vec<Mat> =
+        if constant { vec![plant.c.at(0).clone()] } else { (0..steps).map(|k| plant.c_at(k).into_owned()).collect() };
     let mut p = plant.clone();
     if plant.first_measurement == 0 {
         p.cz = plant.c.clone();
@@ -65,7 +69,7 @@ pub fn innovation_system(plant: &Plant, real: &Realization) -> Option<(Plant, Re
         p.dz = Steps::per_step((0..steps).map(|k| plant.d_at(k).into_owned()).collect());
     }
     let mut r = real.clone();
-    if c.iter().all(|ck| *ck == c[0]) {
+    if constant {
         // One C: settled steps keep sharing their gains (`Realization::map_gains`).
         r.map_gains(|g| {
             g.cf = c[0].clone();
@@ -138,18 +142,22 @@ pub fn rank(p: &Mat) -> usize {
 }
 
 /// The NEES weight of each step, P_z⁺ / rank P_z, from the claimed moments; None where the filter
-/// claims no error at all (then the ratio means nothing).
-pub fn weights(claimed: &[Mat]) -> Vec<Option<Mat>> {
-    claimed
-        .iter()
-        .map(|p| {
-            let rank = rank(p);
-            (rank > 0).then(|| crate::numerics::linalg::psd_pinv(p) / rank as f64)
-        })
-        .collect()
+/// claims no error at all (then the ratio means nothing). A step whose claim is the same bits as
+/// the step before's shares its weight: a settled filter on a long horizon costs a pointer per step.
+pub fn weights(claimed: &[Mat]) -> Vec<Option<Arc<Mat>>> {
+    let mut out: Vec<Option<Arc<Mat>>> = Vec::with_capacity(claimed.len());
+    for (k, p) in claimed.iter().enumerate() {
+        if k > 0 && claimed[k - 1] == *p {
+            out.push(out[k - 1].clone());
+            continue;
+        }
+        let rank = rank(p);
+        out.push((rank > 0).then(|| Arc::new(crate::numerics::linalg::psd_pinv(p) / rank as f64)));
+    }
+    out
 }
 
 /// The exact NEES per step: tr(W\[k] E\[e eᵀ]) with W the [`weights`].
-pub fn exact(weights: &[Option<Mat>], moments: &[Mat]) -> Vec<Option<f64>> {
-    weights.iter().zip(moments).map(|(w, m)| w.as_ref().map(|w| (w * m).trace())).collect()
+pub fn exact(weights: &[Option<Arc<Mat>>], moments: &[Mat]) -> Vec<Option<f64>> {
+    weights.iter().zip(moments).map(|(w, m)| w.as_ref().map(|w| (&**w * m).trace())).collect()
 }

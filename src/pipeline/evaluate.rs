@@ -2,6 +2,7 @@
 //! Monte Carlo on the same input (docs/math.md §6) from the run's one [`MonteCarlo`] source,
 //! gathered into the scenario's [`ScenarioOutcome`].
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -29,8 +30,8 @@ pub struct Engine<'a> {
     pub reals: Vec<&'a Realization>,
     pub ops: PlantOps,
     pub ratios: Option<RatioCheck<'a>>,
-    pub nees: Vec<Option<&'a [Option<Mat>]>>,
-    pub nis: Vec<Option<&'a [Option<Mat>]>>,
+    pub nees: Vec<Option<&'a [Option<Arc<Mat>>]>>,
+    pub nis: Vec<Option<&'a [Option<Arc<Mat>>]>>,
 }
 
 impl<'a> Engine<'a> {

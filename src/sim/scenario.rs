@@ -9,6 +9,7 @@ use crate::model::plant::Plant;
 use crate::numerics::linalg::Mat;
 use crate::sim::noise::NoiseSampler;
 use crate::sim::plant_ops::PlantOps;
+use std::sync::Arc;
 
 /// What the engine needs to run one scenario.
 pub struct Scenario<'a> {
@@ -23,19 +24,19 @@ pub struct Scenario<'a> {
     pub ratios: Option<&'a RatioCheck<'a>>,
     /// Per filter, the NEES weights W\[k] of a filter with a claimed covariance (empty: none),
     /// borrowed from the designs: a long horizon has one matrix per step and filter.
-    pub nees: &'a [Option<&'a [Option<Mat>]>],
+    pub nees: &'a [Option<&'a [Option<Arc<Mat>>]>],
     /// Per filter, the NIS weights of a filter with an innovation and a claimed S\[k] (empty: none).
-    pub nis: &'a [Option<&'a [Option<Mat>]>],
+    pub nis: &'a [Option<&'a [Option<Arc<Mat>>]>],
     /// Per filter, its error form when it is simulated in error coordinates ε = s − M x (the plant's
     /// state is then never differenced); empty or None: the filter's own state s.
     pub forms: &'a [Option<ErrorForm>],
 }
 
 impl Scenario<'_> {
-    pub(super) fn nees_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
+    pub(super) fn nees_weights(&self, f: usize) -> Option<&[Option<Arc<Mat>>]> {
         *self.nees.get(f)?
     }
-    pub(super) fn nis_weights(&self, f: usize) -> Option<&[Option<Mat>]> {
+    pub(super) fn nis_weights(&self, f: usize) -> Option<&[Option<Arc<Mat>>]> {
         *self.nis.get(f)?
     }
     pub(super) fn form(&self, f: usize) -> Option<&ErrorForm> {

@@ -76,7 +76,7 @@ fn kalman_innovations_have_the_riccati_covariance() {
             None => assert!(s.amax() == 0.0, "step {step}: no NIS only where there is no measurement"),
             Some(wt) => {
                 // weights = S⁺ / rank: S · weights · rank is the identity for a full-rank S.
-                let id = &s * wt * nis.ranks[step] as f64;
+                let id = &s * &**wt * nis.ranks[step] as f64;
                 let err = (id - Mat::identity(s.nrows(), s.nrows())).amax();
                 assert!(err < 1e-9, "step {step}: claimed S differs from C P⁻ Cᵀ + D W Dᵀ by {err}");
             }
