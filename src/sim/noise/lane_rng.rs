@@ -41,38 +41,15 @@ impl LaneRng {
     /// The next output of every lane (Blackman–Vigna's xoshiro256++ step, lane by lane).
     #[inline(always)]
     pub fn next_row(&mut self, out: &mut [u64; LANES]) {
-        let [s0, s1, s2, s3] = &mut self.s;
-        for l in 0..LANES {
-            let (a, b, c, d) = (s0[l], s1[l], s2[l], s3[l]);
-            out[l] = a.wrapping_add(d).rotate_left(23).wrapping_add(a);
-            let t = b << 17;
-            let c = c ^ a;
-            let d = d ^ b;
-            let b = b ^ c;
-            let a = a ^ d;
-            s0[l] = a;
-            s1[l] = b;
-            s2[l] = c ^ t;
-            s3[l] = d.rotate_left(45);
+        for (l, o) in out.iter_mut().enumerate() {
+            *o = step(&mut self.s, l);
         }
     }
 
     /// The next output of lane `lane` alone: the same step as [`LaneRng::next_row`].
     #[inline]
     pub fn next_lane(&mut self, lane: usize) -> u64 {
-        let [s0, s1, s2, s3] = &mut self.s;
-        let (a, b, c, d) = (s0[lane], s1[lane], s2[lane], s3[lane]);
-        let out = a.wrapping_add(d).rotate_left(23).wrapping_add(a);
-        let t = b << 17;
-        let c = c ^ a;
-        let d = d ^ b;
-        let b = b ^ c;
-        let a = a ^ d;
-        s0[lane] = a;
-        s1[lane] = b;
-        s2[lane] = c ^ t;
-        s3[lane] = d.rotate_left(45);
-        out
+        step(&mut self.s, lane)
     }
 
     /// Lane `lane` as a rand generator, for the draws that stay scalar (other shapes, modes,
@@ -110,4 +87,23 @@ impl rand::TryRng for LaneStream<'_> {
         }
         Ok(())
     }
+}
+
+/// One xoshiro256++ step of lane `l` (Blackman–Vigna): inlined into [`LaneRng::next_row`]'s loop
+/// over the lanes, where the state's word-by-word layout lets it compile to vector instructions.
+#[inline(always)]
+fn step(s: &mut [[u64; LANES]; 4], l: usize) -> u64 {
+    let [s0, s1, s2, s3] = s;
+    let (a, b, c, d) = (s0[l], s1[l], s2[l], s3[l]);
+    let out = a.wrapping_add(d).rotate_left(23).wrapping_add(a);
+    let t = b << 17;
+    let c = c ^ a;
+    let d = d ^ b;
+    let b = b ^ c;
+    let a = a ^ d;
+    s0[l] = a;
+    s1[l] = b;
+    s2[l] = c ^ t;
+    s3[l] = d.rotate_left(45);
+    out
 }
