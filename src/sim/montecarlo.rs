@@ -42,30 +42,39 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
     let mut q = [0.0; LANES];
     let (mut nu, mut tmp) = (lanes::zeros(plant.ny()), lanes::zeros(plant.ny()));
     let per_filter = &mut st.filters;
-    simulate(sc, ws, first, active, |v| {
-        let (k, f, e) = (v.k, v.f, v.e);
-        lanes::squared_norm(e, &mut e2);
-        let acc = &mut per_filter[f];
-        acc.steps[k] = Welford::of(&e2[..active]);
-        if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
-            lanes::quadratic(w, e, &mut q);
-            acc.nees[k] = Welford::of(&q[..active]);
-        }
-        if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
-            innovation(sc, &v, &mut nu, &mut tmp);
-            lanes::quadratic(w, &nu, &mut q);
-            acc.nis[k] = Welford::of(&q[..active]);
-        }
-        if plant.counts(k) {
-            lanes::axpy(1.0, &e2, &mut totals[f]);
-        }
-        if sc.ratios.is_some() {
-            if k < plant.horizon {
-                lanes::axpy(1.0, &e2, &mut sums[f]);
+    // Inlined into the build `simulate` picked, so the statistics run with the same vector width as
+    // the simulation (the same bits: no kernel's order depends on the width).
+    simulate(
+        sc,
+        ws,
+        first,
+        active,
+        #[inline(always)]
+        |v| {
+            let (k, f, e) = (v.k, v.f, v.e);
+            lanes::squared_norm(e, &mut e2);
+            let acc = &mut per_filter[f];
+            acc.steps[k] = Welford::of(&e2[..active]);
+            if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
+                lanes::quadratic(w, e, &mut q);
+                acc.nees[k] = Welford::of(&q[..active]);
             }
-            checks::ellipsoid(sc, f, k, e, v.energy, active, acc, &mut broke[f]);
-        }
-    });
+            if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
+                innovation(sc, &v, &mut nu, &mut tmp);
+                lanes::quadratic(w, &nu, &mut q);
+                acc.nis[k] = Welford::of(&q[..active]);
+            }
+            if plant.counts(k) {
+                lanes::axpy(1.0, &e2, &mut totals[f]);
+            }
+            if sc.ratios.is_some() {
+                if k < plant.horizon {
+                    lanes::axpy(1.0, &e2, &mut sums[f]);
+                }
+                checks::ellipsoid(sc, f, k, e, v.energy, active, acc, &mut broke[f]);
+            }
+        },
+    );
     for f in 0..sums.len() {
         checks::terminal(sc, ws, f, &sums[f], active, &mut st.filters[f]);
         st.filters[f].violations += broke[f][..active].iter().filter(|b| **b != 0.0).count() as u64;
@@ -83,6 +92,7 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
 
 /// ν = y − C s, the innovation of a filter whose state estimates x ([`crate::analysis::nees`]), into
 /// `nu`; in error coordinates ε = s − x it is D w − C ε, which needs no x.
+#[inline(always)]
 fn innovation(sc: &Scenario, v: &StepView, nu: &mut [Row], tmp: &mut [Row]) {
     let (c, d) = (sc.ops.c(v.k, 0), sc.ops.d(v.k, 0));
     if v.error_coordinates {

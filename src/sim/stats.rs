@@ -3,6 +3,7 @@
 //! trials were spread over threads.
 
 /// Σ f(v) in a fixed order that vectorizes: eight interleaved partial sums, then added in turn.
+#[inline(always)]
 fn sum(values: &[f64], f: impl Fn(f64) -> f64) -> f64 {
     let mut acc = [0.0; 8];
     let mut chunks = values.chunks_exact(8);
@@ -41,6 +42,7 @@ impl Welford {
     /// it): what a lane block contributes before it is merged with [`Welford::merge`]. The mean is
     /// taken as the first value plus the mean deviation from it, so equal values (a fixed input)
     /// give their value exactly and no spread, as Welford's update does.
+    #[inline(always)]
     pub fn of(values: &[f64]) -> Welford {
         if values.is_empty() {
             return Welford::default();
