@@ -67,6 +67,10 @@ enum Command {
     Bench {
         /// Experiment name or path to a TOML file.
         name: String,
+        /// The lane kernels' build to time: the best this processor has (default), or a lower one
+        /// to compare with (every build gives the same bits).
+        #[arg(long, value_enum, default_value_t = BuildArg::Best)]
+        build: BuildArg,
         #[command(flatten)]
         opts: RunOpts,
     },
@@ -260,7 +264,13 @@ fn main_inner(cli: Cli) -> Result<ExitCode> {
             }
         }
         Command::Check(args) => return check(args),
-        Command::Bench { name, opts } => {
+        Command::Bench { name, build, opts } => {
+            use filterbench::sim::lanes::{Build, force_build};
+            force_build(match build {
+                BuildArg::Best => None,
+                BuildArg::Avx2 => Some(Build::Avx2),
+                BuildArg::Baseline => Some(Build::Baseline),
+            });
             let p = pool(opts.threads)?;
             let exps = load(&name, &opts.overrides(false))?;
             filterbench::pipeline::budget::check(&exps)?;
@@ -402,6 +412,17 @@ fn finish(a: &CheckArgs, result: &filterbench::verdict::evaluate::Check, name: &
         println!("\nresults: {} (check: {})", dir.display(), output::CHECK_FILE);
     }
     Ok(if result.fails() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// `bench --build`: which build of the lane kernels to time.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum BuildArg {
+    /// The best build this processor runs (AVX-512, AVX2 or the x86-64 baseline).
+    Best,
+    /// AVX2, or the baseline where the processor has no AVX2.
+    Avx2,
+    /// The x86-64 baseline (SSE2).
+    Baseline,
 }
 
 fn main() -> ExitCode {

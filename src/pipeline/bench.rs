@@ -25,7 +25,7 @@ pub fn run(exp: &Experiment) -> Result<String> {
         trials,
         rayon::current_num_threads(),
         BLOCK,
-        crate::sim::lanes::best_build(),
+        crate::sim::lanes::build(),
     );
     let lines = super::each_scenario(exp, &filters, |engine, p| {
         Ok(scenario(&p.scenario(engine), &exp.scenarios[p.index].name, trials))

@@ -66,10 +66,10 @@ enum Op<'a> {
 
 impl Op<'_> {
     #[inline(always)]
-    fn apply(self, x: &[Row], add: bool, out: &mut [Row]) {
+    fn apply<const C: usize>(self, x: &[Row], add: bool, out: &mut [Row]) {
         match self {
-            Op::Lin(op) => lanes::apply(op, x, add, out),
-            Op::Dense(m) => lanes::gemm(m, x, add, out),
+            Op::Lin(op) => lanes::apply_in::<C>(op, x, add, out),
+            Op::Dense(m) => lanes::gemm_in::<C>(m, x, add, out),
         }
     }
     fn addr(self) -> *const () {
@@ -85,7 +85,7 @@ impl Op<'_> {
 /// product per mode, each kept where the lane is in that mode.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn by_mode<'a>(
+fn by_mode<'a, const C: usize>(
     modes: &[u32; LANES],
     active: usize,
     n_modes: usize,
@@ -97,16 +97,16 @@ fn by_mode<'a>(
 ) {
     let first = op(0);
     if n_modes == 1 || (1..n_modes).all(|m| op(m).addr() == first.addr()) {
-        return first.apply(x, add, out);
+        return first.apply::<C>(x, add, out);
     }
     let m0 = modes[0];
     if modes[..active].iter().all(|&m| m == m0) {
-        return op(m0 as usize).apply(x, add, out);
+        return op(m0 as usize).apply::<C>(x, add, out);
     }
     let tmp = &mut tmp[..out.len()];
     for m in 0..n_modes {
         if modes[..active].contains(&(m as u32)) {
-            op(m).apply(x, false, tmp);
+            op(m).apply::<C>(x, false, tmp);
             lanes::select(modes, m as u32, tmp, add, out);
         }
     }
@@ -114,12 +114,20 @@ fn by_mode<'a>(
 
 /// Adds Σ_i ζ_i(k) M_i x to `out` for the matrix `which` (0 = A, …, 5 = Dz) of every factor.
 #[inline(always)]
-fn add_factors(sc: &Scenario, which: usize, k: usize, zeta: &[Row], x: &[Row], out: &mut [Row], tmp: &mut [Row]) {
+fn add_factors<const C: usize>(
+    sc: &Scenario,
+    which: usize,
+    k: usize,
+    zeta: &[Row],
+    x: &[Row],
+    out: &mut [Row],
+    tmp: &mut [Row],
+) {
     let ops = sc.ops;
     for (i, f) in ops.factors.iter().enumerate() {
         if let Some(op) = f[k][which] {
             let tmp = &mut tmp[..out.len()];
-            lanes::apply(&ops.ops[op], x, false, tmp);
+            lanes::apply_in::<C>(&ops.ops[op], x, false, tmp);
             lanes::add_scaled(&zeta[i], tmp, out);
         }
     }
@@ -156,7 +164,7 @@ pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: us
         lanes::Build::Avx512 => unsafe { simulate_avx512(sc, ws, first, active, visit) },
         #[cfg(target_arch = "x86_64")]
         lanes::Build::Avx2 => unsafe { simulate_avx2(sc, ws, first, active, visit) },
-        _ => simulate_lanes(sc, ws, first, active, visit),
+        _ => simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, visit),
     }
 }
 
@@ -164,7 +172,7 @@ pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: us
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
 unsafe fn simulate_avx512(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
-    simulate_lanes(sc, ws, first, active, visit)
+    simulate_lanes::<{ lanes::WIDE_CHUNK }>(sc, ws, first, active, visit)
 }
 
 /// [`simulate`] compiled for AVX2: four lanes per instruction instead of SSE2's two. Rust never
@@ -172,11 +180,17 @@ unsafe fn simulate_avx512(sc: &Scenario, ws: &mut Workspace, first: u64, active:
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn simulate_avx2(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
-    simulate_lanes(sc, ws, first, active, visit)
+    simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, visit)
 }
 
 #[inline(always)]
-fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, mut visit: impl FnMut(StepView)) {
+fn simulate_lanes<const C: usize>(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    first: u64,
+    active: usize,
+    mut visit: impl FnMut(StepView),
+) {
     let p = sc.plant;
     let ops = sc.ops;
     let nm = ops.modes;
@@ -202,16 +216,16 @@ fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, 
         sc.sampler.step(k, &mut ws.draw);
         let (draw, modes) = (&ws.draw, &ws.draw.modes);
         let w = &draw.w;
-        by_mode(modes, active, nm, |m| Op::Lin(ops.c(k, m)), &ws.x, false, &mut ws.y, &mut ws.tmp);
-        by_mode(modes, active, nm, |m| Op::Lin(ops.d(k, m)), w, true, &mut ws.y, &mut ws.tmp);
-        lanes::apply(&ops.ops[ops.cz[k]], &ws.x, false, &mut ws.z);
-        lanes::apply(&ops.ops[ops.dz[k]], w, true, &mut ws.z);
+        by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.c(k, m)), &ws.x, false, &mut ws.y, &mut ws.tmp);
+        by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.d(k, m)), w, true, &mut ws.y, &mut ws.tmp);
+        lanes::apply_in::<C>(&ops.ops[ops.cz[k]], &ws.x, false, &mut ws.z);
+        lanes::apply_in::<C>(&ops.ops[ops.dz[k]], w, true, &mut ws.z);
         if !ops.factors.is_empty() {
             let zeta = &draw.zeta;
-            add_factors(sc, 2, k, zeta, &ws.x, &mut ws.y, &mut ws.tmp);
-            add_factors(sc, 3, k, zeta, w, &mut ws.y, &mut ws.tmp);
-            add_factors(sc, 4, k, zeta, &ws.x, &mut ws.z, &mut ws.tmp);
-            add_factors(sc, 5, k, zeta, w, &mut ws.z, &mut ws.tmp);
+            add_factors::<C>(sc, 2, k, zeta, &ws.x, &mut ws.y, &mut ws.tmp);
+            add_factors::<C>(sc, 3, k, zeta, w, &mut ws.y, &mut ws.tmp);
+            add_factors::<C>(sc, 4, k, zeta, &ws.x, &mut ws.z, &mut ws.tmp);
+            add_factors::<C>(sc, 5, k, zeta, w, &mut ws.z, &mut ws.tmp);
         }
         let r = p.r_at(k);
         if let Some(r) = r {
@@ -225,14 +239,14 @@ fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, 
             match form {
                 None => {
                     let g = |m| real.gains(k, m);
-                    by_mode(modes, active, nm, |m| Op::Dense(&g(m).cf), s, false, &mut ws.zhat, &mut ws.tmp);
-                    by_mode(modes, active, nm, |m| Op::Dense(&g(m).df), &ws.y, true, &mut ws.zhat, &mut ws.tmp);
+                    by_mode::<C>(modes, active, nm, |m| Op::Dense(&g(m).cf), s, false, &mut ws.zhat, &mut ws.tmp);
+                    by_mode::<C>(modes, active, nm, |m| Op::Dense(&g(m).df), &ws.y, true, &mut ws.zhat, &mut ws.tmp);
                     lanes::difference(&ws.z, &ws.zhat, &mut ws.err);
                 }
                 Some(fm) => {
                     let a = |m: usize| &fm.steps[k][m];
-                    by_mode(modes, active, nm, |m| Op::Dense(&a(m).h), s, false, &mut ws.err, &mut ws.tmp);
-                    by_mode(modes, active, nm, |m| Op::Dense(&a(m).g), w, true, &mut ws.err, &mut ws.tmp);
+                    by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).h), s, false, &mut ws.err, &mut ws.tmp);
+                    by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).g), w, true, &mut ws.err, &mut ws.tmp);
                     lanes::difference(&ws.z, &ws.err, &mut ws.zhat);
                 }
             }
@@ -255,18 +269,18 @@ fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, 
                 match form {
                     None => {
                         let g = |m| real.gains(k, m);
-                        by_mode(modes, active, nm, |m| Op::Dense(&g(m).af), s, false, next, &mut ws.tmp);
-                        by_mode(modes, active, nm, |m| Op::Dense(&g(m).bf), &ws.y, true, next, &mut ws.tmp);
+                        by_mode::<C>(modes, active, nm, |m| Op::Dense(&g(m).af), s, false, next, &mut ws.tmp);
+                        by_mode::<C>(modes, active, nm, |m| Op::Dense(&g(m).bf), &ws.y, true, next, &mut ws.tmp);
                         if r.is_some() {
-                            by_mode(modes, active, nm, |m| Op::Dense(&g(m).gf), &ws.r, true, next, &mut ws.tmp);
+                            by_mode::<C>(modes, active, nm, |m| Op::Dense(&g(m).gf), &ws.r, true, next, &mut ws.tmp);
                         }
                     }
                     Some(fm) => {
                         let a = |m: usize| &fm.steps[k][m];
-                        by_mode(modes, active, nm, |m| Op::Dense(&a(m).f), s, false, next, &mut ws.tmp);
-                        by_mode(modes, active, nm, |m| Op::Dense(&a(m).e), w, true, next, &mut ws.tmp);
+                        by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).f), s, false, next, &mut ws.tmp);
+                        by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).e), w, true, next, &mut ws.tmp);
                         if r.is_some() {
-                            by_mode(modes, active, nm, |m| Op::Dense(&a(m).r_map), &ws.r, true, next, &mut ws.tmp);
+                            by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).r_map), &ws.r, true, next, &mut ws.tmp);
                         }
                     }
                 }
@@ -274,11 +288,11 @@ fn simulate_lanes(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, 
             }
         }
         if k < p.horizon {
-            by_mode(modes, active, nm, |m| Op::Lin(ops.a(k, m)), &ws.x, false, &mut ws.x_next, &mut ws.tmp);
-            by_mode(modes, active, nm, |m| Op::Lin(ops.b(k, m)), w, true, &mut ws.x_next, &mut ws.tmp);
+            by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.a(k, m)), &ws.x, false, &mut ws.x_next, &mut ws.tmp);
+            by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.b(k, m)), w, true, &mut ws.x_next, &mut ws.tmp);
             if !ops.factors.is_empty() {
-                add_factors(sc, 0, k, &draw.zeta, &ws.x, &mut ws.x_next, &mut ws.tmp);
-                add_factors(sc, 1, k, &draw.zeta, w, &mut ws.x_next, &mut ws.tmp);
+                add_factors::<C>(sc, 0, k, &draw.zeta, &ws.x, &mut ws.x_next, &mut ws.tmp);
+                add_factors::<C>(sc, 1, k, &draw.zeta, w, &mut ws.x_next, &mut ws.tmp);
             }
             if let Some(r) = r {
                 lanes::add_vector(1.0, r.as_slice(), &mut ws.x_next);
