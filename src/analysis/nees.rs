@@ -200,7 +200,7 @@ impl FromIterator<Option<f64>> for PerStep {
         let n = iter.size_hint().0;
         let mut out = PerStep { values: Vec::with_capacity(n), present: Vec::with_capacity(n.div_ceil(64)) };
         for (k, v) in iter.enumerate() {
-            if k % 64 == 0 {
+            if k.is_multiple_of(64) {
                 out.present.push(0);
             }
             out.present[k / 64] |= u64::from(v.is_some()) << (k % 64);

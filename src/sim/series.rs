@@ -113,7 +113,7 @@ impl Series {
         self.mean.push(w.mean);
         self.m2.push(w.m2);
         match &mut self.counts {
-            Counts::Uniform { present, .. } if k % 64 == 0 => present.push(0),
+            Counts::Uniform { present, .. } if k.is_multiple_of(64) => present.push(0),
             Counts::Uniform { .. } => {}
             Counts::PerStep(n) => n.push(0),
         }
