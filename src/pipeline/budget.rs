@@ -4,19 +4,21 @@
 
 use crate::config::{Experiment, Input};
 use crate::error::{Error, Result};
-use crate::sim::montecarlo::{BLOCK, WAVE, WAVE_BYTES};
+use crate::sim::montecarlo::{BLOCK, STEP_BYTES, WAVE, WAVE_BYTES};
 
-/// Bytes of one running mean/variance accumulator (n, mean, M2).
-const WELFORD: u64 = crate::sim::montecarlo::WELFORD_BYTES;
+/// Bytes of one step's running mean/variance accumulator in a series (mean, M2 and a bit for the
+/// count, which is shared: `sim::series`).
+const WELFORD: u64 = STEP_BYTES;
 /// Bytes of one row of steps.parquet while it is built and written (numbers, the copy the writer
-/// makes); the table is written a row group at a time, at most two of them alive.
+/// makes); the table is written a row group at a time.
 const STEP_ROW: u64 = 256;
 /// Bytes of one row of gains.parquet (one nonzero gain entry) while it is built and written, a
 /// row group at a time like the steps.
 const GAIN_ROW: u64 = 64;
-/// Rows of a table alive at once while it is written: two row groups
-/// (`report::parquet`'s row groups of 512² rows).
-const TABLE_ROWS: u64 = 2 * 512 * 512;
+/// Rows of a table alive at once while it is written: at most three row groups (the rows waiting,
+/// the slice added and a row group's copy in one chunk; `report::parquet`'s row groups of 512²
+/// rows). At N = 10⁶ writing steps.parquet was measured to add 168 MB, below these 201 MB.
+const TABLE_ROWS: u64 = 3 * 512 * 512;
 /// Bytes a small matrix costs beyond its entries (its header and the allocator's).
 const MATRIX: u64 = 64;
 /// Bytes of one step's gains beyond its sets' matrices: its pointer, the shared allocation's
@@ -27,8 +29,9 @@ const GAINS_STEP: u64 = 72;
 /// values, their steps and the envelope.
 const RECORDED: u64 = 4097 * 10 * 8;
 /// Bytes per step, scenario and filter kept until the reports: the exact error, the exact NEES
-/// and the per-step promise.
-const KEPT_STEP: u64 = 8 + 16 + 8;
+/// and NIS (a value and a bit each, `analysis::nees::PerStep`) and a guaranteed per-step promise
+/// (a claimed one is the filter's, shared by every scenario).
+const KEPT_STEP: u64 = 8 + 2 * (8 + 1) + 8;
 
 /// An estimate of the peak memory of `exp`, in bytes, with the dominant terms named.
 pub struct Estimate {
@@ -46,10 +49,11 @@ fn sat(xs: &[u64]) -> u64 {
 /// (as if no two steps were the same, so an upper bound for a filter that reaches a steady state),
 /// with its NEES weights and, while they are computed, one projected copy of its gains per filter
 /// (the designs run in parallel); the Monte Carlo accumulators (per step and filter, for a wave of
-/// blocks cut to fit `WAVE_BYTES` on a long horizon, the reduction tree's nodes and the total); what
-/// every scenario keeps (per-step statistics, exact errors, promises, the sample trajectories);
-/// the two row groups of a table being written; the recording's decimated series; and the dense
-/// matrices over the whole horizon that joint inputs, anisotropic analyses and some designs build.
+/// blocks cut to fit `WAVE_BYTES` on a long horizon and the reduction tree's nodes, the first of
+/// which becomes the total); what every scenario keeps (per-step statistics, exact errors, NEES
+/// and NIS, promises, the sample trajectories); the row groups of a table being written; the
+/// recording's decimated series; and the dense matrices over the whole horizon that joint inputs,
+/// anisotropic analyses and some designs build.
 pub fn estimate(exp: &Experiment) -> Estimate {
     let p = &exp.plant;
     let steps = p.steps() as u64;
@@ -76,15 +80,16 @@ pub fn estimate(exp: &Experiment) -> Estimate {
         copy = copy.saturating_add(gains);
     }
     let design = design.saturating_add(copy);
-    // Monte Carlo accumulators alive at once per scenario: a wave of blocks, the tree's nodes (one
-    // per level) and the total, each per (filter, step) for the mean-square error, NEES and NIS.
+    // Monte Carlo accumulators alive at once per scenario: a wave of blocks and the tree's nodes
+    // (one per level; the total is the first of them, `sim::tree`), each per (filter, step) for the
+    // mean-square error, NEES and NIS.
     let per_block = sat(&[nf, steps, 3 * WELFORD]);
     let blocks = (exp.trials as u64).div_ceil(BLOCK);
     let threads = rayon::current_num_threads() as u64;
     let wave = (WAVE_BYTES / per_block.max(1)).max(threads).clamp(1, WAVE).min(blocks);
     let levels = 64 - u64::from(blocks.leading_zeros()) + 1;
-    let live = per_block.saturating_mul(wave + levels + 1);
-    let traj = sat(&[nsc, exp.sample_trajectories as u64, (nf + 1) * nz * 8 + 8, steps]);
+    let live = per_block.saturating_mul(wave + levels);
+    let traj = sat(&[nsc, exp.sample_trajectories as u64, (nf + 1) * nz * 8 + 4, steps]);
     let kept = sat(&[nsc, nf, steps, 3 * WELFORD + KEPT_STEP]).saturating_add(traj);
     let rows_of_gains = footprints.iter().map(|f| (f.state * (f.state + ny as usize + nz as usize) + 1) as u64);
     let table = TABLE_ROWS * STEP_ROW + rows_of_gains.max().unwrap_or(0).min(TABLE_ROWS) * GAIN_ROW;

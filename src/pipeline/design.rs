@@ -56,7 +56,8 @@ fn generalized_h2(exp: &Experiment, real: &Realization) -> Result<Option<f64>> {
 #[derive(Clone, Debug)]
 pub struct Claimed {
     pub total: f64,
-    pub per_step: Vec<f64>,
+    /// Shared with every scenario's [`super::Promise`] that states it (one copy per filter).
+    pub per_step: std::sync::Arc<[f64]>,
 }
 
 impl Claimed {
@@ -66,7 +67,7 @@ impl Claimed {
         // A filter that states its error covariance (the `linear` family's `claimed`) believes tr of it.
         if let Some(moments) = &design.claimed_error {
             let per_step: Vec<f64> = moments.iter().map(Mat::trace).collect();
-            return Some(Claimed { total: total(&per_step), per_step });
+            return Some(Claimed { total: total(&per_step), per_step: per_step.into() });
         }
         // Every guarantee kind is stated at the filter's design covariance (Kalman: its P; minimax: K̂).
         let g = design.guarantee.as_ref()?;
@@ -77,7 +78,7 @@ impl Claimed {
         } else {
             g.per_step.clone()
         };
-        Some(Claimed { total: total(&per_step), per_step })
+        Some(Claimed { total: total(&per_step), per_step: per_step.into() })
     }
 }
 

@@ -195,7 +195,7 @@ pub(super) fn outcome(engine: &Engine, p: Prepared, source: &mut Source) -> Resu
     let Prepared { setup, exact, .. } = p;
     // NEES and NIS from the same exact recursions, each projected output checked like the error
     // itself.
-    let square = |name: &str, n: &Normalized, p: &Plant, r: &Realization| -> Result<Vec<Option<f64>>> {
+    let square = |name: &str, n: &Normalized, p: &Plant, r: &Realization| -> Result<nees::PerStep> {
         let trusted = |p: &Plant, r: &Realization| exact_of(p, r, &setup)?.trusted(name);
         Ok(nees::exact(&n.weights, &nees::error_moments(p, r, &trusted)?))
     };

@@ -2,12 +2,15 @@
 //! [`ScenarioOutcome`] per scenario and, in it, one [`FilterOutcome`] per filter with every figure
 //! the reports print, each computed here once. The reports only format them.
 
+use std::sync::Arc;
+
 use crate::analysis::exact::ExactError;
+use crate::analysis::nees::PerStep;
 use crate::filter::design::GuaranteeKind;
 use crate::model::plant::{Covariances, Plant};
 use crate::numerics::linalg::Mat;
 use crate::sim::montecarlo::{FilterStats, McStats, Trajectory};
-use crate::sim::stats::Welford;
+use crate::sim::series::Series;
 
 use super::design::DesignedFilter;
 
@@ -50,11 +53,12 @@ pub struct ScenarioOutcome {
 
 /// What a filter promises about its per-step error in a scenario: the family's bound where it
 /// holds in that scenario (`guaranteed`), else the filter's own belief, its error at its design
-/// covariance (`claimed`), which this scenario's input may exceed.
+/// covariance (`claimed`), which this scenario's input may exceed. A claim is the filter's
+/// [`Claimed::per_step`](super::Claimed), shared by every scenario rather than copied into each.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Promise {
-    Guaranteed(Vec<f64>),
-    Claimed(Vec<f64>),
+    Guaranteed(Arc<[f64]>),
+    Claimed(Arc<[f64]>),
 }
 
 impl Promise {
@@ -115,10 +119,10 @@ pub struct FilterOutcome {
     pub consistency: Option<f64>,
     /// Where it claims a covariance: the exact NEES per step (None at a step where it claims no
     /// error).
-    pub nees_exact: Option<Vec<Option<f64>>>,
+    pub nees_exact: Option<PerStep>,
     pub nees_average: NeesAverage,
     /// Where it has an innovation and claims its covariance: the exact NIS per step.
-    pub nis_exact: Option<Vec<Option<f64>>>,
+    pub nis_exact: Option<PerStep>,
     pub nis_average: NeesAverage,
     /// The mean-square gain, where the input has power.
     pub gain: Option<Gain>,
@@ -136,8 +140,8 @@ pub struct Evaluated<'a> {
     pub holds: bool,
     pub exact: &'a ExactError,
     pub mc: &'a FilterStats,
-    pub nees_exact: Option<Vec<Option<f64>>>,
-    pub nis_exact: Option<Vec<Option<f64>>>,
+    pub nees_exact: Option<PerStep>,
+    pub nis_exact: Option<PerStep>,
 }
 
 impl FilterOutcome {
@@ -145,8 +149,8 @@ impl FilterOutcome {
     pub fn new(f: &DesignedFilter, e: Evaluated) -> Self {
         let g = f.design.guarantee.as_ref().filter(|_| e.holds);
         let promise = match (g, &f.claimed) {
-            (Some(g), _) if !g.per_step.is_empty() => Some(Promise::Guaranteed(g.per_step.clone())),
-            (_, Some(c)) if !c.per_step.is_empty() => Some(Promise::Claimed(c.per_step.clone())),
+            (Some(g), _) if !g.per_step.is_empty() => Some(Promise::Guaranteed(g.per_step.as_slice().into())),
+            (_, Some(c)) if !c.per_step.is_empty() => Some(Promise::Claimed(Arc::clone(&c.per_step))),
             _ => None,
         };
         let st = &e.mc.total;
@@ -162,8 +166,8 @@ impl FilterOutcome {
             }
         });
         let (nees_avg, nis_avg) = (
-            nees_average(e.plant, e.nees_exact.as_deref(), &e.mc.nees),
-            nees_average(e.plant, e.nis_exact.as_deref(), &e.mc.nis),
+            nees_average(e.plant, e.nees_exact.as_ref(), &e.mc.nees),
+            nees_average(e.plant, e.nis_exact.as_ref(), &e.mc.nis),
         );
         FilterOutcome {
             guaranteed: g.map(|g| guaranteed_total(f, g)),
@@ -198,14 +202,14 @@ fn guaranteed_total(f: &DesignedFilter, g: &crate::filter::design::Guarantee) ->
 
 /// A filter's NEES (or NIS) averaged over the steps that count and where it claims an error:
 /// exact, and the mean of the per-step Monte Carlo means `mc`.
-fn nees_average(plant: &Plant, exact: Option<&[Option<f64>]>, mc: &[Welford]) -> NeesAverage {
+fn nees_average(plant: &Plant, exact: Option<&PerStep>, mc: &Series) -> NeesAverage {
     let Some(exact) = exact else { return NeesAverage::default() };
-    let ks: Vec<usize> = (0..exact.len()).filter(|k| plant.counts(*k) && exact[*k].is_some()).collect();
+    let ks: Vec<usize> = (0..exact.len()).filter(|k| plant.counts(*k) && exact.get(*k).is_some()).collect();
     if ks.is_empty() {
         return NeesAverage::default();
     }
     let n = ks.len() as f64;
-    let ex = ks.iter().map(|k| exact[*k].unwrap_or(0.0)).sum::<f64>() / n;
-    let emp = mc.get(ks[0]).map(|_| ks.iter().map(|k| mc[*k].mean).sum::<f64>() / n);
+    let ex = ks.iter().map(|k| exact.get(*k).unwrap_or(0.0)).sum::<f64>() / n;
+    let emp = mc.get(ks[0]).map(|_| ks.iter().map(|k| mc.at(*k).mean).sum::<f64>() / n);
     NeesAverage { exact: Some(ex), empirical: emp }
 }

@@ -276,17 +276,17 @@ struct SummaryCols {
 /// One row per (scenario, filter, step), in that order, built a slice of one (scenario, filter)
 /// pair at a time and written a row group at a time, so a long horizon never holds the whole
 /// table (10⁷ rows at N = 10⁶ with 5 scenarios and 2 filters) in memory; the row groups are those
-/// of the whole table written at once.
+/// of the whole table written at once. Each slice ends where a row group does, so the rows alive
+/// are one row group's and its copy in one chunk.
 fn steps(exp: &Experiment, out: &RunOutcome, batches: &mut Batches) -> Result<()> {
     let mut groups = Grouped::default();
     for sc in &out.scenarios {
         for (f, spec) in exp.filters.iter().enumerate() {
-            let n = sc.mc.filters[f].steps.len();
-            for start in (0..n).step_by(ROW_GROUP) {
-                groups.add(
-                    batches,
-                    super::rows::steps(exp, out, sc, f, &spec.name, start..(start + ROW_GROUP).min(n))?,
-                )?;
+            let (mut start, n) = (0, sc.mc.filters[f].steps.len());
+            while start < n {
+                let end = (start + ROW_GROUP - groups.pending_rows()).min(n);
+                groups.add(batches, super::rows::steps(exp, out, sc, f, &spec.name, start..end)?)?;
+                start = end;
             }
         }
     }
@@ -294,13 +294,19 @@ fn steps(exp: &Experiment, out: &RunOutcome, batches: &mut Batches) -> Result<()
 }
 
 /// Slices of one run's part of a table, written in row groups of [`ROW_GROUP`] rows as the whole
-/// part written at once would be, holding at most two row groups' worth.
+/// part written at once would be: the rows waiting, the slice added and the copy of a row group
+/// in one chunk (at most three row groups' worth; two when a slice ends at a row group's end).
 #[derive(Default)]
 struct Grouped {
     pending: Option<DataFrame>,
 }
 
 impl Grouped {
+    /// The rows waiting for the next row group (fewer than [`ROW_GROUP`]).
+    fn pending_rows(&self) -> usize {
+        self.pending.as_ref().map_or(0, DataFrame::height)
+    }
+
     fn add(&mut self, batches: &mut Batches, rows: DataFrame) -> Result<()> {
         let mut all = match self.pending.take() {
             Some(mut p) => {

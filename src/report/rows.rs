@@ -45,10 +45,10 @@ pub(crate) fn steps(
     let cl = out.filters[f].claimed.as_ref();
     let st = &sc.mc.filters[f];
     let (of, df) = (&sc.filters[f], &out.filters[f]);
-    let nees = square("nees", of.nees_exact.as_deref(), &st.nees, df.nees.as_ref(), ks.clone());
-    let nis = square("nis", of.nis_exact.as_deref(), &st.nis, df.nis.as_ref(), ks.clone());
+    let nees = square("nees", of.nees_exact.as_ref(), &st.nees, df.nees.as_ref(), ks.clone());
+    let nis = square("nis", of.nis_exact.as_ref(), &st.nis, df.nis.as_ref(), ks.clone());
     for k in ks {
-        let w = &st.steps[k];
+        let w = st.steps.at(k);
         let (l, h) = w.ci95();
         step.push(k as u32);
         mean.push(w.mean);
@@ -82,17 +82,20 @@ pub(crate) fn steps(
 /// normalized square (NEES or NIS) at steps `ks`: null at a step where the filter claims nothing.
 fn square(
     name: &str,
-    exact: Option<&[Option<f64>]>,
-    mc: &[crate::sim::stats::Welford],
+    exact: Option<&crate::analysis::nees::PerStep>,
+    mc: &crate::sim::series::Series,
     claim: Option<&crate::analysis::nees::Normalized>,
     ks: std::ops::Range<usize>,
 ) -> Vec<Column> {
     let ws: Vec<_> = ks.clone().map(|k| mc.get(k).filter(|w| w.n > 0)).collect();
-    let by = |f: &dyn Fn(&crate::sim::stats::Welford) -> f64| ws.iter().map(|w| w.map(f)).collect::<Vec<_>>();
-    let rank: Vec<Option<u32>> =
-        ks.clone().zip(&ws).map(|(k, w)| w.and(claim.and_then(|c| c.ranks.get(k))).map(|r| *r as u32)).collect();
+    let by = |f: &dyn Fn(&crate::sim::stats::Welford) -> f64| ws.iter().map(|w| w.as_ref().map(f)).collect::<Vec<_>>();
+    let rank: Vec<Option<u32>> = ks
+        .clone()
+        .zip(&ws)
+        .map(|(k, w)| w.as_ref().and(claim.and_then(|c| c.ranks.get(k))).map(|r| *r as u32))
+        .collect();
     vec![
-        col(&format!("{name}_exact"), ks.map(|k| exact.and_then(|v| v[k])).collect::<Vec<_>>()),
+        col(&format!("{name}_exact"), ks.map(|k| exact.and_then(|v| v.get(k))).collect::<Vec<_>>()),
         col(&format!("{name}_mean"), by(&|w| w.mean)),
         col(&format!("{name}_ci_low"), by(&|w| w.ci95().0)),
         col(&format!("{name}_ci_high"), by(&|w| w.ci95().1)),

@@ -4,6 +4,7 @@
 //! checks and the tree need not import it.
 
 use crate::sim::scenario::Scenario;
+use crate::sim::series::Series;
 use crate::sim::stats::Welford;
 
 /// Per-filter statistics of one scenario.
@@ -12,16 +13,16 @@ pub struct FilterStats {
     /// Summed squared error J over the steps that count, one value per trial.
     pub total: Welford,
     /// Squared error |z\[k] − ẑ\[k]|² at each step.
-    pub steps: Vec<Welford>,
+    pub steps: Series,
     /// For a filter with a per-trial bound: the largest ratio seen and the trials at or above it.
     pub max_ratio: f64,
     pub violations: u64,
     /// e\[k]ᵀ W\[k] e\[k] at each step, for a filter with a claimed covariance ([`crate::analysis::nees`]);
     /// empty otherwise (and at a step without a weight the accumulator stays empty).
-    pub nees: Vec<Welford>,
+    pub nees: Series,
     /// ν\[k]ᵀ W\[k] ν\[k] at each step for a filter with an innovation and a claimed S (NIS); empty
     /// otherwise.
-    pub nis: Vec<Welford>,
+    pub nis: Series,
 }
 
 /// Everything one scenario's Monte Carlo run accumulates.
@@ -40,11 +41,11 @@ impl McStats {
             filters: (0..nf)
                 .map(|f| FilterStats {
                     total: Welford::default(),
-                    steps: vec![Welford::default(); steps],
+                    steps: Series::new(steps),
                     max_ratio: 0.0,
                     violations: 0,
-                    nees: if sc.nees_weights(f).is_some() { vec![Welford::default(); steps] } else { Vec::new() },
-                    nis: if sc.nis_weights(f).is_some() { vec![Welford::default(); steps] } else { Vec::new() },
+                    nees: Series::new(if sc.nees_weights(f).is_some() { steps } else { 0 }),
+                    nis: Series::new(if sc.nis_weights(f).is_some() { steps } else { 0 }),
                 })
                 .collect(),
             paired: vec![Welford::default(); nf * nf.saturating_sub(1) / 2],
@@ -55,10 +56,9 @@ impl McStats {
             a.total.merge(&b.total);
             a.max_ratio = a.max_ratio.max(b.max_ratio);
             a.violations += b.violations;
-            let squares = a.nees.iter_mut().zip(&b.nees).chain(a.nis.iter_mut().zip(&b.nis));
-            for (x, y) in a.steps.iter_mut().zip(&b.steps).chain(squares) {
-                x.merge(y);
-            }
+            a.steps.merge(&b.steps);
+            a.nees.merge(&b.nees);
+            a.nis.merge(&b.nis);
         }
         for (a, b) in self.paired.iter_mut().zip(&o.paired) {
             a.merge(b);

@@ -8,5 +8,6 @@ pub mod montecarlo;
 pub mod noise;
 mod plant_ops;
 pub mod scenario;
+pub mod series;
 pub mod stats;
 pub mod tree;

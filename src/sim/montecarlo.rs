@@ -54,15 +54,15 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
             let (k, f, e) = (v.k, v.f, v.e);
             lanes::squared_norm(e, &mut e2);
             let acc = &mut per_filter[f];
-            acc.steps[k] = Welford::of(&e2[..active]);
+            acc.steps.set(k, Welford::of(&e2[..active]));
             if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
                 lanes::quadratic(w, e, &mut q);
-                acc.nees[k] = Welford::of(&q[..active]);
+                acc.nees.set(k, Welford::of(&q[..active]));
             }
             if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
                 innovation(sc, &v, &mut nu, &mut tmp);
                 lanes::quadratic(w, &nu, &mut q);
-                acc.nis[k] = Welford::of(&q[..active]);
+                acc.nis.set(k, Welford::of(&q[..active]));
             }
             if plant.counts(k) {
                 lanes::axpy(1.0, &e2, &mut totals[f]);
@@ -109,7 +109,7 @@ fn innovation(sc: &Scenario, v: &StepView, nu: &mut [Row], tmp: &mut [Row]) {
 pub(crate) const WAVE: u64 = 256;
 
 /// The most memory a wave's accumulators may take, unless that is less than one per thread: on a
-/// long horizon (one accumulator per step and filter, 96 MB per block at N = 10⁶ with 2 filters)
+/// long horizon (three accumulators per step and filter, 102 MB per block at N = 10⁶ with 2 filters)
 /// a wave is cut to fewer blocks. The tree merges blocks in index order whatever the wave, so the
 /// results are the same bits.
 pub(crate) const WAVE_BYTES: u64 = 256 << 20;
@@ -119,15 +119,15 @@ pub(crate) fn wave_blocks(sc: &Scenario) -> u64 {
     let per_block: u64 = (0..sc.filters.len())
         .map(|f| {
             let squares = u64::from(sc.nees_weights(f).is_some()) + u64::from(sc.nis_weights(f).is_some());
-            (1 + squares) * sc.plant.steps() as u64 * WELFORD_BYTES
+            (1 + squares) * sc.plant.steps() as u64 * STEP_BYTES
         })
         .sum();
     let threads = rayon::current_num_threads() as u64;
     (WAVE_BYTES / per_block.max(1)).max(threads).clamp(1, WAVE)
 }
 
-/// Bytes of one accumulator ([`Welford`]).
-pub(crate) const WELFORD_BYTES: u64 = std::mem::size_of::<Welford>() as u64;
+/// Bytes of one step's accumulator in a [`crate::sim::series::Series`] (its mean and M2, and a bit).
+pub(crate) const STEP_BYTES: u64 = crate::sim::series::STEP_BYTES;
 
 /// The number of blocks of a run of `trials` trials.
 pub fn blocks(trials: u64) -> u64 {
@@ -180,7 +180,7 @@ pub(crate) fn run_range(
 /// The statistics of a whole run from its tree nodes in block order (one range's or every
 /// shard's, shard after shard): the same merges whoever computed the nodes.
 pub(crate) fn reduce(sc: &Scenario, nodes: impl IntoIterator<Item = Node>) -> McStats {
-    Tree::from_nodes(nodes).finish(McStats::new(sc))
+    Tree::from_nodes(nodes).finish(|| McStats::new(sc))
 }
 
 /// Runs `trials` trials of one scenario on the current rayon pool. `progress` is called with the
@@ -195,8 +195,8 @@ pub struct Trajectory {
     pub trial: u64,
     pub z: Mat,
     pub zhat: Vec<Mat>,
-    /// θ\[k], the plant's mode at each step (for dropouts 0 = lost).
-    pub modes: Vec<usize>,
+    /// θ\[k], the plant's mode at each step (for dropouts 0 = lost), as the lanes carry it.
+    pub modes: Vec<u32>,
 }
 
 /// Re-runs trials 0..count (same streams and blocks as in [`run`]) and records their trajectories.
@@ -220,7 +220,7 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
                     }
                     tr.zhat[v.f][(i, v.k)] = v.zhat[i][l];
                 }
-                tr.modes[v.k] = v.modes[l] as usize;
+                tr.modes[v.k] = v.modes[l];
             }
         });
     }

@@ -56,7 +56,7 @@ pub(crate) fn bits(mc: &filterbench::sim::montecarlo::McStats) -> Vec<u64> {
     let mut out = Vec::new();
     for f in &mc.filters {
         out.extend(w(&f.total));
-        out.extend(f.steps.iter().chain(&f.nees).flat_map(w));
+        out.extend(f.steps.iter().chain(f.nees.iter()).flat_map(|x| w(&x)));
         out.extend([f.max_ratio.to_bits(), f.violations]);
     }
     out.extend(mc.paired.iter().flat_map(w));

@@ -38,6 +38,7 @@ mod promises;
 mod realization_sharing;
 mod recording;
 mod sdp;
+mod series;
 mod shards;
 mod strict_files;
 mod time_varying;

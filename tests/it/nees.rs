@@ -35,7 +35,7 @@ fn agrees_step_by_step(out: &pipeline::RunOutcome) {
                 let Some(ex) = ex else { continue };
                 let mut steps = 0;
                 for (step, v) in ex.iter().enumerate() {
-                    let (Some(v), w) = (v, &mc[step]) else { continue };
+                    let (Some(v), w) = (v, mc.at(step)) else { continue };
                     let z = (w.mean - v) / w.std_error();
                     assert!(
                         z.abs() < 4.5,
@@ -110,7 +110,7 @@ fn a_misspecified_kalman_filter_is_overconfident() {
     let k = exp.filter_index("kalman_wrong").unwrap();
     let nominal = out.scenarios.iter().find(|s| s.name == "nominal_gaussian").unwrap();
     let exact = nominal.filters[k].nees_exact.as_ref().unwrap();
-    let vals: Vec<f64> = exact.iter().flatten().copied().collect();
+    let vals: Vec<f64> = exact.iter().flatten().collect();
     let avg = vals.iter().sum::<f64>() / vals.len() as f64;
     assert!(avg > 2.0, "over-confident: average NEES {avg}");
     let d = &out.filters[k];
@@ -119,7 +119,7 @@ fn a_misspecified_kalman_filter_is_overconfident() {
         Ok(filterbench::analysis::exact::error(p, r, cov))
     };
     let m = filterbench::analysis::nees::error_moments(&exp.plant, &d.design.realization, &at).unwrap();
-    for (step, (mk, c)) in m.iter().zip(&d.claimed.as_ref().unwrap().per_step).enumerate() {
+    for (step, (mk, c)) in m.iter().zip(d.claimed.as_ref().unwrap().per_step.iter()).enumerate() {
         assert!((mk.trace() - c).abs() <= 1e-9 * c.abs().max(1.0), "step {step}: tr {} vs claimed {c}", mk.trace());
     }
 }

@@ -21,7 +21,7 @@ fn kalman_claims_but_does_not_guarantee() {
     let at_design =
         filterbench::analysis::exact::error(&exp.plant, &d.realization, d.design_covariance.as_ref().unwrap());
     assert_eq!(claimed.total, at_design.total, "claimed is the summed error at the design covariance");
-    assert_eq!(claimed.per_step, at_design.per_step);
+    assert_eq!(*claimed.per_step, *at_design.per_step);
     for sc in &out.scenarios {
         assert_eq!(sc.filters[k].guaranteed, None, "{}: a belief is not a guarantee", sc.name);
     }

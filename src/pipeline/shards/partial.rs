@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::sim::montecarlo::{FilterStats, McStats, Partial};
+use crate::sim::series::Series;
 use crate::sim::stats::Welford;
 use crate::sim::tree::Node;
 
@@ -153,13 +154,13 @@ impl NodeCols {
             let checks = Welford { n: st.violations, mean: st.max_ratio, m2: 0.0 };
             self.row(at, "checks", f, 0, checks);
             for (k, w) in st.steps.iter().enumerate() {
-                self.row(at, "step", f, k, *w);
+                self.row(at, "step", f, k, w);
             }
             for (k, w) in st.nees.iter().enumerate() {
-                self.row(at, "nees", f, k, *w);
+                self.row(at, "nees", f, k, w);
             }
             for (k, w) in st.nis.iter().enumerate() {
-                self.row(at, "nis", f, k, *w);
+                self.row(at, "nis", f, k, w);
             }
         }
         for (p, w) in node.stats.paired.iter().enumerate() {
@@ -216,8 +217,8 @@ pub(crate) fn read_nodes(dir: &Path, scenarios: &[usize]) -> Result<Vec<Vec<Vec<
             kind => {
                 if kind == "total" {
                     in_order(st.filters.len(), it)?;
-                    let steps = Vec::new();
-                    let (nees, nis) = (Vec::new(), Vec::new());
+                    let steps = Series::default();
+                    let (nees, nis) = (Series::default(), Series::default());
                     st.filters.push(FilterStats { total: w, steps, max_ratio: 0.0, violations: 0, nees, nis });
                     continue;
                 }

@@ -252,7 +252,10 @@ fn mse(w: &mut Writer, run: &Run, sc: &ScenarioOutcome) -> RecResult {
             .with_names([name; 3]);
         // Decimated, the band's edges are the buckets' extremes: it covers every step's band.
         let band = [decimate::Reduce::Mean, decimate::Reduce::Min, decimate::Reduce::Max];
-        let value = |k: usize, i: usize| [st[k].mean, st[k].ci95().0, st[k].ci95().1][i];
+        let value = |k: usize, i: usize| {
+            let w = st.at(k);
+            [w.mean, w.ci95().0, w.ci95().1][i]
+        };
         w.per_step(at("empirical"), &emp, st.len(), 3, value, Some(&band), None)?;
         let exact = marker_style(c, MarkerShape::Circle, 1.5, name);
         let ex = &sc.exact[f].per_step;
