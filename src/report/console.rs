@@ -124,7 +124,9 @@ pub fn table(exp: &Experiment, out: &RunOutcome) -> String {
 
 /// Seed 003's figures: mean-square gain E|Z̃|²/E|W|² (empirical with its 95 % half-width, exact, and
 /// exact for the noise alone; "—" where the outcome has none: an input without power, or the noise
-/// alone beside a deterministic disturbance), the filter's a-anisotropic norm² and its guaranteed γ².
+/// alone beside a deterministic disturbance), the filter's a-anisotropic norm² and its guaranteed γ²
+/// with the anisotropy level it holds up to: a filter designed for a lower level (an `h2_suboptimal`
+/// at a = 0) guarantees nothing at the file's level, and its γ² must not be read beside norm²_a.
 fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> String {
     let a = sc.input_anisotropy.map_or("—".to_string(), |a| format!("{a:.3}"));
     let level = exp.anisotropy.map_or(String::new(), |a| format!(", norm² at a = {a}"));
@@ -143,9 +145,10 @@ fn gain_block(exp: &Experiment, out: &RunOutcome, sc: &ScenarioOutcome) -> Strin
                 opt(g.and_then(|g| g.exact_noise)),
                 opt(d.anisotropic.map(|x| x.norm_sq)),
                 opt(d.design.gain_bound.map(|g| g.gamma_sq)),
+                opt(d.design.gain_bound.map(|g| g.anisotropy)),
             ]
         })
         .collect();
-    s += &grid(&["filter", "gain ± 95%", "exact", "noise only", "norm²_a", "γ² guaranteed"], rows);
+    s += &grid(&["filter", "gain ± 95%", "exact", "noise only", "norm²_a", "γ² guaranteed", "for a ≤"], rows);
     s
 }

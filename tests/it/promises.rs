@@ -154,7 +154,7 @@ fn console_gain_is_the_outcomes() {
     assert_eq!(blocks.len(), out.scenarios.len(), "one gain block per scenario:\n{table}");
     let (mut disturbed, mut clean) = (0, 0);
     for (sc, block) in out.scenarios.iter().zip(&blocks) {
-        // Each filter's line: name, gain ± half-width, exact, noise only, norm²_a, γ².
+        // Each filter's line: name, gain ± half-width, exact, noise only, norm²_a, γ², the level γ² holds for.
         let noise: Vec<&str> = block
             .lines()
             .filter(|l| l.contains(" ± ") && !l.contains("gain ± 95%"))
