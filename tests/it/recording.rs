@@ -8,7 +8,9 @@ use std::io::BufReader;
 use filterbench::config;
 use filterbench::report::recording::{self, style};
 use rerun::external::re_log_encoding::DecoderApp;
-use rerun::external::re_sdk_types::blueprint::components::QueryExpression;
+use rerun::external::re_sdk_types::blueprint::archetypes as bp;
+use rerun::external::re_sdk_types::blueprint::components::{self as bpc, QueryExpression};
+use rerun::external::re_sdk_types::datatypes::TimeRangeBoundary;
 use rerun::log::{Chunk, LogMsg};
 use rerun::{ComponentIdentifier, StoreKind};
 
@@ -47,6 +49,9 @@ struct Read {
     noise_free_colours: BTreeSet<[u8; 3]>,
     /// The blueprint's view contents that name a noise-free entity.
     noise_free_shown: usize,
+    /// Time-series views, and the x-axis view ranges (first and last step) the blueprint sets.
+    time_series_views: usize,
+    time_axes: Vec<(i64, i64)>,
 }
 
 fn colour_components() -> Vec<ComponentIdentifier> {
@@ -71,6 +76,8 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
         noise_free: BTreeSet::new(),
         noise_free_colours: BTreeSet::new(),
         noise_free_shown: 0,
+        time_series_views: 0,
+        time_axes: Vec::new(),
     };
     let mut entities = BTreeSet::new();
     for msg in DecoderApp::decode_lazy(file) {
@@ -88,6 +95,19 @@ fn read(path: &std::path::Path, variants: &[String], filters: &[String]) -> Read
                         .component;
                     for row in chunk.iter_component::<QueryExpression>(id) {
                         r.noise_free_shown += row.iter().filter(|q| q.0.as_str().ends_with("/noise_free")).count();
+                    }
+                    let class = bp::ViewBlueprint::descriptor_class_identifier().component;
+                    for row in chunk.iter_component::<bpc::ViewClass>(class) {
+                        r.time_series_views += row.iter().filter(|c| c.0.as_str() == "TimeSeries").count();
+                    }
+                    for row in chunk.iter_component::<bpc::TimeRange>(bp::TimeAxis::descriptor_view_range().component) {
+                        for t in row.iter() {
+                            let at = |b: &TimeRangeBoundary| match b {
+                                TimeRangeBoundary::Absolute(t) => t.0,
+                                other => panic!("{}: an x axis bound {other:?}, not a step", path.display()),
+                            };
+                            r.time_axes.push((at(&t.0.start), at(&t.0.end)));
+                        }
                     }
                     continue;
                 }
@@ -158,6 +178,14 @@ fn every_shipped_recording_has_no_empty_chunk_a_blueprint_and_one_colour_per_fil
         let r = read(&path, &variants, &names_in_order);
         assert!(r.data_entities > 0, "{name}: data");
         assert!(r.viewport && r.activated && r.blueprint_chunks > 3, "{name}: a default blueprint, activated");
+        // Every plot opens on its whole horizon (the viewer's default is a window of about two
+        // thousand steps around the cursor, a few buckets of a decimated long horizon).
+        assert!(r.time_series_views > 0, "{name}: plots");
+        assert_eq!(r.time_axes.len(), r.time_series_views, "{name}: every plot sets its x range");
+        let horizons: BTreeSet<i64> = exps.iter().map(|e| e.plant.horizon as i64).collect();
+        for (first, last) in &r.time_axes {
+            assert!(*first <= 1 && horizons.contains(last), "{name}: x axis {first}..{last}, horizons {horizons:?}");
+        }
         let filters: BTreeSet<&str> = exps[0].filters.iter().map(|f| f.name.as_str()).collect();
         let mut seen: BTreeMap<[u8; 3], String> = BTreeMap::new();
         for (f, cs) in &r.colours {

@@ -25,9 +25,10 @@ pub(crate) struct Node {
 /// What a view plots.
 pub(crate) enum ViewKind {
     /// Scalars against the `step` timeline; `from_step` hides earlier steps (a visible range);
-    /// the legend in the `legend` corner.
+    /// the x axis opens on `from_step` (or 0) to `last_step`; the legend in the `legend` corner.
     TimeSeries {
         from_step: Option<i64>,
+        last_step: i64,
         legend: bpc::Corner2D,
     },
     BarChart,
@@ -91,9 +92,18 @@ impl Layout {
             // follow the table beside them and have the filters' colours.
             self.rec.log(format!("{path}/PlotLegend"), &bp::PlotLegend::new().with_visible(false))?;
         }
-        if let ViewKind::TimeSeries { from_step, legend } = kind {
+        if let ViewKind::TimeSeries { from_step, last_step, legend } = kind {
             self.rec
                 .log(format!("{path}/PlotLegend"), &bp::PlotLegend::new().with_corner(legend).with_visible(true))?;
+            // Without it the viewer (0.36.3) opens every plot on a window of about two thousand
+            // steps around the cursor: a decimated horizon of 10⁵ or 10⁶ steps would show its
+            // first few buckets, and the envelope that keeps a late spike visible would be off
+            // screen.
+            let whole = datatypes::TimeRange {
+                start: datatypes::TimeRangeBoundary::Absolute(from_step.unwrap_or(0).into()),
+                end: datatypes::TimeRangeBoundary::Absolute(last_step.into()),
+            };
+            self.rec.log(format!("{path}/TimeAxis"), &bp::TimeAxis::new().with_view_range(bpc::TimeRange(whole)))?;
             if let Some(start) = from_step {
                 let range = datatypes::VisibleTimeRange {
                     timeline: "step".into(),

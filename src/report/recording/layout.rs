@@ -98,7 +98,8 @@ fn scenario(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<Node> {
     // short one (seed 000's examples have three steps) keeps every step. Mean-square errors settle
     // high in the plot: the empty corner is at the bottom.
     let from_step = (exp.plant.steps() >= MIN_STEPS_TO_SKIP_TRANSIENT).then_some(1);
-    let per_step = || ViewKind::TimeSeries { from_step, legend: Corner2D::RightBottom };
+    let last_step = exp.plant.horizon as i64;
+    let per_step = || ViewKind::TimeSeries { from_step, last_step, legend: Corner2D::RightBottom };
     let from = if from_step.is_some() { " from step 1" } else { "" };
     // A decimated horizon says so (docs/output-columns.md): each point is a bucket of steps.
     let of = match super::decimate::buckets(exp.plant.steps()) {
@@ -165,12 +166,12 @@ fn trajectory_row(l: &mut Layout, run: &Run, sc: &ScenarioOutcome) -> BpResult<O
         }
         let of = if tr.z.nrows() > COMPONENTS_SHOWN { format!(" of {}", tr.z.nrows()) } else { String::new() };
         views.push(l.view(
-            ViewKind::TimeSeries { from_step: None, legend: Corner2D::RightTop },
+            ViewKind::TimeSeries { from_step: None, last_step: exp.plant.horizon as i64, legend: Corner2D::RightTop },
             &format!("trial {}: {z}{of}, truth{} and estimates", tr.trial, nf_title),
             &zc,
         )?);
         views.push(l.view(
-            ViewKind::TimeSeries { from_step: None, legend: Corner2D::RightTop },
+            ViewKind::TimeSeries { from_step: None, last_step: exp.plant.horizon as i64, legend: Corner2D::RightTop },
             &format!("trial {}: error {z} − ẑ", tr.trial),
             &ec,
         )?);
