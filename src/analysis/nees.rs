@@ -170,8 +170,8 @@ pub fn exact(weights: &[Option<Arc<Mat>>], moments: &[Mat]) -> PerStep {
 pub struct PerStep {
     /// 0 where there is no value.
     values: Vec<f64>,
-    /// Bit k % 64 of word k / 64: step k has a value.
-    present: Vec<u64>,
+    /// Bit k: step k has a value.
+    present: bit_vec::BitVec,
 }
 
 impl PerStep {
@@ -186,7 +186,7 @@ impl PerStep {
     /// The value at step k (None where the filter claims nothing, or beyond the horizon).
     pub fn get(&self, k: usize) -> Option<f64> {
         let v = *self.values.get(k)?;
-        ((self.present[k / 64] >> (k % 64)) & 1 == 1).then_some(v)
+        self.present[k].then_some(v)
     }
 
     pub fn iter(&self) -> impl Iterator<Item = Option<f64>> + '_ {
@@ -198,12 +198,9 @@ impl FromIterator<Option<f64>> for PerStep {
     fn from_iter<I: IntoIterator<Item = Option<f64>>>(iter: I) -> Self {
         let iter = iter.into_iter();
         let n = iter.size_hint().0;
-        let mut out = PerStep { values: Vec::with_capacity(n), present: Vec::with_capacity(n.div_ceil(64)) };
-        for (k, v) in iter.enumerate() {
-            if k.is_multiple_of(64) {
-                out.present.push(0);
-            }
-            out.present[k / 64] |= u64::from(v.is_some()) << (k % 64);
+        let mut out = PerStep { values: Vec::with_capacity(n), present: bit_vec::BitVec::with_capacity(n) };
+        for v in iter {
+            out.present.push(v.is_some());
             out.values.push(v.unwrap_or(0.0));
         }
         out

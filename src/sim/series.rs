@@ -5,6 +5,8 @@
 //! step by step, so a [`Series`] holds exactly the accumulators it was given, whatever they are.
 //! At N = 10⁶ with 2 filters each scenario keeps 6 × 10⁶ accumulators until the reports.
 
+use bit_vec::BitVec;
+
 use crate::sim::stats::Welford;
 
 /// Bytes a step costs in a series: its mean and M2, and its bit (rounded up to a byte).
@@ -12,8 +14,8 @@ pub(crate) const STEP_BYTES: u64 = 2 * 8 + 1;
 
 #[derive(Clone, Debug, PartialEq)]
 enum Counts {
-    /// Step k's count is `n` where bit k % 64 of word k / 64 is set, else 0 (`n` = 0: none set yet).
-    Uniform { n: u64, present: Vec<u64> },
+    /// Step k's count is `n` where bit k is set, else 0 (`n` = 0: none set yet).
+    Uniform { n: u64, present: BitVec },
     /// Any counts, one per step.
     PerStep(Vec<u64>),
 }
@@ -38,7 +40,7 @@ impl Series {
         Series {
             mean: vec![0.0; len],
             m2: vec![0.0; len],
-            counts: Counts::Uniform { n: 0, present: vec![0; len.div_ceil(64)] },
+            counts: Counts::Uniform { n: 0, present: BitVec::from_elem(len, false) },
         }
     }
 
@@ -52,7 +54,7 @@ impl Series {
 
     fn count(&self, k: usize) -> u64 {
         match &self.counts {
-            Counts::Uniform { n, present } => n * ((present[k / 64] >> (k % 64)) & 1),
+            Counts::Uniform { n, present } => n * u64::from(present[k]),
             Counts::PerStep(n) => n[k],
         }
     }
@@ -87,13 +89,8 @@ impl Series {
             if *n == 0 {
                 *n = count;
             }
-            let bit = 1u64 << (k % 64);
-            if count == 0 {
-                present[k / 64] &= !bit;
-                return;
-            }
-            if *n == count {
-                present[k / 64] |= bit;
+            if count == 0 || *n == count {
+                present.set(k, count != 0);
                 return;
             }
         }
@@ -113,8 +110,7 @@ impl Series {
         self.mean.push(w.mean);
         self.m2.push(w.m2);
         match &mut self.counts {
-            Counts::Uniform { present, .. } if k.is_multiple_of(64) => present.push(0),
-            Counts::Uniform { .. } => {}
+            Counts::Uniform { present, .. } => present.push(false),
             Counts::PerStep(n) => n.push(0),
         }
         self.set_count(k, w.n);
