@@ -113,6 +113,42 @@ pub(crate) fn gemm_in<const C: usize>(m: &Mat, x: &[Row], add: bool, out: &mut [
     }
 }
 
+/// Rows per panel of [`gemm_panels`]: a multiple of matrixmultiply's row blocks, small enough that
+/// a triangular factor's panels skip nearly half of its columns.
+const PANEL: usize = 64;
+
+/// For each panel of [`PANEL`] rows of `m`, how many leading columns hold all of its nonzero entries:
+/// computed once per matrix, for [`gemm_panels`].
+pub(crate) fn panel_widths(m: &Mat) -> Vec<usize> {
+    (0..m.nrows())
+        .step_by(PANEL)
+        .map(|r0| {
+            let rows = m.rows(r0, PANEL.min(m.nrows() - r0));
+            (0..m.ncols()).rev().find(|&j| rows.column(j).iter().any(|v| *v != 0.0)).map_or(0, |j| j + 1)
+        })
+        .collect()
+}
+
+/// out ← M x for a large dense M, panel by panel of rows, each over its first `widths[p]` columns
+/// only ([`panel_widths`]): a lower-triangular factor (the Cholesky factor of a joint input's
+/// covariance over the horizon) costs half a full product. The columns skipped hold only zeros,
+/// whose products would add exact zeros to each sum.
+pub(crate) fn gemm_panels(m: &Mat, widths: &[usize], x: &[Row], out: &mut [Row]) {
+    debug_assert!(x.len() == m.ncols() && out.len() == m.nrows());
+    for (p, &w) in widths.iter().enumerate() {
+        let r0 = p * PANEL;
+        let rows = PANEL.min(m.nrows() - r0);
+        let o = &mut out[r0..r0 + rows];
+        if w == 0 {
+            o.fill([0.0; LANES]);
+            continue;
+        }
+        let xs = DMatrixView::from_slice_with_strides(x[..w].as_flattened(), w, LANES, LANES, 1);
+        let mut os = DMatrixViewMut::from_slice_with_strides_mut(o.as_flattened_mut(), rows, LANES, LANES, 1);
+        os.gemm(1.0, &m.view((r0, 0), (rows, w)), &xs, 0.0);
+    }
+}
+
 /// Lanes per pass of [`gemm`] and [`apply`]: an out row's chunk stays in registers (eight AVX2
 /// registers) while it sums M_ij x_j over j, instead of being loaded and stored once per entry.
 /// The sum is the same in the same order, so chunking changes no bit.

@@ -1,11 +1,14 @@
 //! Inputs drawn jointly over the whole horizon (docs/math.md §7; seed 002 §2): ξ = col(x0 − E x0,
 //! w\[0..N−1]) with w\[N] = 0, either with a full (not white) covariance, uniformly on or inside the
 //! weighted ellipsoid ξᵀK⁻¹ξ ≤ 1, or fixed (a filter's worst case). The factor is computed once per
-//! scenario; a block of lanes draws into preallocated buffers and is mapped with one product.
+//! scenario; a block of lanes draws into preallocated buffers, Gaussian rows a row of lanes at a
+//! time as every other input, and is mapped with one (triangular) product.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal, Uniform};
+
+use super::lane_rng::LaneRng;
 
 use crate::numerics::linalg::{Mat, Vector, psd_factor};
 use crate::sim::lanes::{self, LANES, Row};
@@ -63,50 +66,50 @@ impl JointInput {
         }
     }
 
-    /// Draws lane `lane`'s standardized vector into column `lane` of `u` (dim rows) from `rng`:
-    /// i.i.d. draws of the scenario's shape (`std`) for the correlated kind, a Gaussian direction
-    /// scaled to the ellipsoid's radius for the ellipsoid kinds; [`JointInput::map`] then turns the
-    /// whole block into ξ with one product.
-    pub(super) fn draw_lane<R: rand::Rng + ?Sized>(
-        &self,
-        rng: &mut R,
-        std: &crate::model::shape::StandardDraw,
-        lane: usize,
-        u: &mut [Row],
-    ) {
+    /// Turns a block's Gaussian rows `u` (dim rows, drawn row by row from the lanes' noise
+    /// streams) into each lane's uniform direction scaled to the ellipsoid's radius: 1 on the
+    /// surface, U^(1/dim) inside with U from the lane's stream after its normals. The correlated
+    /// kind's rows are the scenario's shape as drawn; nothing to do.
+    pub(super) fn scale_lanes(&self, rng: &mut LaneRng, active: usize, u: &mut [Row]) {
+        let JointInput::Ellipsoid { surface, .. } = self else { return };
+        let mut scale = [0.0; LANES];
+        for r in u.iter() {
+            for (s, v) in scale.iter_mut().zip(r) {
+                *s += v * v;
+            }
+        }
+        for (l, s) in scale.iter_mut().enumerate().take(active) {
+            let radius = if *surface {
+                1.0
+            } else {
+                let r: f64 = Uniform::new(0.0, 1.0).expect("valid interval").sample(&mut rng.lane(l));
+                r.powf(1.0 / u.len() as f64)
+            };
+            *s = radius / s.sqrt();
+        }
+        for r in u.iter_mut() {
+            for (v, s) in r.iter_mut().zip(&scale).take(active) {
+                *v *= s;
+            }
+        }
+    }
+
+    /// Which columns each panel of the factor's rows needs ([`lanes::panel_widths`]), for [`JointInput::map`].
+    pub(super) fn panel_widths(&self) -> Vec<usize> {
         match self {
-            JointInput::Correlated { .. } => {
-                for r in u.iter_mut() {
-                    r[lane] = std.draw(rng);
-                }
-            }
-            JointInput::Ellipsoid { surface, .. } => {
-                let mut norm2 = 0.0;
-                for r in u.iter_mut() {
-                    let v: f64 = StandardNormal.sample(rng);
-                    r[lane] = v;
-                    norm2 += v * v;
-                }
-                let radius = if *surface {
-                    1.0
-                } else {
-                    let r: f64 = Uniform::new(0.0, 1.0).expect("valid interval").sample(rng);
-                    r.powf(1.0 / u.len() as f64)
-                };
-                let scale = radius / norm2.sqrt();
-                for r in u.iter_mut() {
-                    r[lane] *= scale;
-                }
-            }
-            JointInput::Fixed { .. } => {}
+            JointInput::Correlated { factor } => lanes::panel_widths(factor),
+            JointInput::Ellipsoid { k_half, .. } => lanes::panel_widths(k_half),
+            JointInput::Fixed { .. } => Vec::new(),
         }
     }
 
     /// ξ of every lane from the lanes' standardized draws: factor·u, K^½·u, or the fixed ξ.
-    pub(super) fn map(&self, u: &[Row], xi: &mut [Row]) {
+    /// `widths` is [`JointInput::panel_widths`]: the factors are Cholesky factors where the
+    /// covariance is definite, and a triangular product costs half a full one.
+    pub(super) fn map(&self, widths: &[usize], u: &[Row], xi: &mut [Row]) {
         match self {
-            JointInput::Correlated { factor } => lanes::gemm(factor, u, false, xi),
-            JointInput::Ellipsoid { k_half, .. } => lanes::gemm(k_half, u, false, xi),
+            JointInput::Correlated { factor } => lanes::gemm_panels(factor, widths, u, xi),
+            JointInput::Ellipsoid { k_half, .. } => lanes::gemm_panels(k_half, widths, u, xi),
             JointInput::Fixed { xi: fixed } => {
                 for (r, v) in xi.iter_mut().zip(fixed.iter()) {
                     *r = [*v; LANES];

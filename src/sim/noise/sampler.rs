@@ -65,8 +65,10 @@ pub struct NoiseSampler {
     steps: usize,
     /// Deterministic part of w\[k] (column k), if any: energy-bounded disturbances.
     w_mean: Option<Mat>,
-    /// Inputs drawn jointly over the horizon instead of block by block.
+    /// Inputs drawn jointly over the horizon instead of block by block, and the columns each
+    /// panel of its factor's rows needs.
     joint: Option<JointInput>,
+    joint_widths: Vec<usize>,
     /// The Markov chain of the plant's modes (dropouts included).
     chain: Option<Modes>,
     /// The multiplicative factors' ζ_i(k) (seed 003 (3.1)).
@@ -114,6 +116,7 @@ impl NoiseSampler {
             steps: plant.steps(),
             w_mean: None,
             joint: None,
+            joint_widths: Vec::new(),
             chain: plant.modes().map(std::borrow::Cow::into_owned),
             factors: plant.factors.iter().map(|f| f.shape.sampler()).collect(),
         }
@@ -121,6 +124,7 @@ impl NoiseSampler {
 
     /// Draws ξ = col(x0 − E x0, w\[0..N−1]) jointly (w\[N] = 0) instead of independently.
     pub fn with_joint(mut self, joint: Option<JointInput>) -> Self {
+        self.joint_widths = joint.as_ref().map_or_else(Vec::new, JointInput::panel_widths);
         self.joint = joint;
         self
     }
@@ -201,10 +205,17 @@ impl NoiseSampler {
             }
         }
         if let Some(j) = &self.joint {
-            for l in 0..active {
-                j.draw_lane(&mut out.noise.lane(l), &self.draw, l, &mut out.uj);
+            match j {
+                JointInput::Correlated { .. } => self.standard(&mut out.noise, active, &mut out.uj),
+                JointInput::Ellipsoid { .. } => {
+                    for r in out.uj.iter_mut() {
+                        ziggurat::normal_row(&mut out.noise, r);
+                    }
+                    j.scale_lanes(&mut out.noise, active, &mut out.uj);
+                }
+                JointInput::Fixed { .. } => {}
             }
-            j.map(&out.uj, &mut out.xi);
+            j.map(&self.joint_widths, &out.uj, &mut out.xi);
             let n = self.m0.len();
             out.x0.copy_from_slice(&out.xi[..n]);
             lanes::add_vector(1.0, self.m0.as_slice(), &mut out.x0);
