@@ -16,4 +16,4 @@ pub use sampler::NoiseSampler;
 #[doc(hidden)]
 pub use sampler::{Stream, trial_rng};
 #[doc(hidden)]
-pub use ziggurat::{exp, ln, normal_lane, normal_row, normal_rows};
+pub use ziggurat::{exp, ln, normal_lane, normal_rows};

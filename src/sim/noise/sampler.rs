@@ -17,7 +17,7 @@ use crate::model::plant::{Covariances, Modes, Plant};
 use crate::model::shape::{Shape, StandardDraw};
 use crate::numerics::linalg::{Mat, Vector, psd_factor};
 use crate::numerics::linop::LinOp;
-use crate::sim::lanes::{self, LANES, Row};
+use crate::sim::lanes::{self, Build, LANES, Row};
 
 /// The generator of every trial stream: xoshiro256++, its state seeded as rand's
 /// `Xoshiro256PlusPlus::seed_from_u64` and stepped for all lanes at once by [`LaneRng`]. Measured
@@ -172,7 +172,8 @@ impl NoiseSampler {
             lanes::Build::Avx512 => unsafe { self.start_avx512(seed, scenario, first, active, out) },
             #[cfg(target_arch = "x86_64")]
             lanes::Build::Avx2 => unsafe { self.start_avx2(seed, scenario, first, active, out) },
-            _ => self.start_lanes(seed, scenario, first, active, out),
+            // SAFETY: the baseline build runs everywhere.
+            _ => unsafe { self.start_lanes(seed, scenario, first, active, out, Build::Baseline) },
         }
     }
 
@@ -180,18 +181,32 @@ impl NoiseSampler {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
     unsafe fn start_avx512(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
-        self.start_lanes(seed, scenario, first, active, out)
+        // SAFETY: this function runs only where the processor has AVX-512.
+        unsafe { self.start_lanes(seed, scenario, first, active, out, Build::Avx512) }
     }
 
     /// [`NoiseSampler::start`] compiled for AVX2 (the same bits as the baseline build).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn start_avx2(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
-        self.start_lanes(seed, scenario, first, active, out)
+        // SAFETY: this function runs only where the processor has AVX2.
+        unsafe { self.start_lanes(seed, scenario, first, active, out, Build::Avx2) }
     }
 
+    /// The body of the build-specific entry points.
+    ///
+    /// # Safety
+    /// The processor has `build`'s features.
     #[inline(always)]
-    fn start_lanes(&self, seed: u64, scenario: usize, first: u64, active: usize, out: &mut LaneDraw) {
+    unsafe fn start_lanes(
+        &self,
+        seed: u64,
+        scenario: usize,
+        first: u64,
+        active: usize,
+        out: &mut LaneDraw,
+        build: Build,
+    ) {
         debug_assert!(active <= LANES);
         out.active = active;
         for l in 0..active {
@@ -206,10 +221,10 @@ impl NoiseSampler {
         }
         if let Some(j) = &self.joint {
             match j {
-                JointInput::Correlated { .. } => self.standard(&mut out.noise, active, &mut out.uj),
+                JointInput::Correlated { .. } => unsafe { self.standard(&mut out.noise, active, &mut out.uj, build) },
                 JointInput::Ellipsoid { .. } => {
                     for r in out.uj.iter_mut() {
-                        ziggurat::normal_row(&mut out.noise, r);
+                        unsafe { ziggurat::normal_row(&mut out.noise, r, build) };
                     }
                     j.scale_lanes(&mut out.noise, active, &mut out.uj);
                 }
@@ -222,20 +237,25 @@ impl NoiseSampler {
             return;
         }
         let u0 = &mut out.u[..self.l0.ncols()];
-        self.standard(&mut out.noise, active, u0);
+        // SAFETY: the caller guarantees `build`.
+        unsafe { self.standard(&mut out.noise, active, u0, build) };
         lanes::gemm(&self.l0, u0, false, &mut out.x0);
         lanes::add_vector(1.0, self.m0.as_slice(), &mut out.x0);
     }
 
     /// u\[i]\[l] i.i.d. of the shape, lane l from its noise stream (its row-0 value first): Gaussian
     /// rows for all lanes at once, other shapes lane by lane.
+    ///
+    /// # Safety
+    /// The processor has `build`'s features.
     #[inline(always)]
-    fn standard(&self, rng: &mut LaneRng, active: usize, u: &mut [Row]) {
+    unsafe fn standard(&self, rng: &mut LaneRng, active: usize, u: &mut [Row], build: Build) {
         match self.draw {
             StandardDraw::Gaussian => {
                 // A plain loop, not a closure: it stays inside the caller's vector build.
                 for r in u.iter_mut() {
-                    ziggurat::normal_row(rng, r);
+                    // SAFETY: the caller guarantees `build`.
+                    unsafe { ziggurat::normal_row(rng, r, build) };
                 }
             }
             _ => {
@@ -255,7 +275,8 @@ impl NoiseSampler {
             lanes::Build::Avx512 => unsafe { self.step_avx512(k, out) },
             #[cfg(target_arch = "x86_64")]
             lanes::Build::Avx2 => unsafe { self.step_avx2(k, out) },
-            _ => self.step_lanes(k, out),
+            // SAFETY: the baseline build runs everywhere.
+            _ => unsafe { self.step_lanes(k, out, Build::Baseline) },
         }
     }
 
@@ -263,18 +284,24 @@ impl NoiseSampler {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
     unsafe fn step_avx512(&self, k: usize, out: &mut LaneDraw) {
-        self.step_lanes(k, out)
+        // SAFETY: this function runs only where the processor has AVX-512.
+        unsafe { self.step_lanes(k, out, Build::Avx512) }
     }
 
     /// [`NoiseSampler::step`] compiled for AVX2 (the same bits as the baseline build).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn step_avx2(&self, k: usize, out: &mut LaneDraw) {
-        self.step_lanes(k, out)
+        // SAFETY: this function runs only where the processor has AVX2.
+        unsafe { self.step_lanes(k, out, Build::Avx2) }
     }
 
+    /// The body of the build-specific entry points.
+    ///
+    /// # Safety
+    /// The processor has `build`'s features.
     #[inline(always)]
-    fn step_lanes(&self, k: usize, out: &mut LaneDraw) {
+    unsafe fn step_lanes(&self, k: usize, out: &mut LaneDraw, build: Build) {
         let active = out.active;
         match &self.joint {
             Some(_) => {
@@ -289,7 +316,8 @@ impl NoiseSampler {
             }
             None => {
                 let u = &mut out.u[..self.lw.ncols()];
-                self.standard(&mut out.noise, active, u);
+                // SAFETY: the caller guarantees `build`.
+                unsafe { self.standard(&mut out.noise, active, u, build) };
                 lanes::apply(&self.lw, u, false, &mut out.w);
                 if let Some(m) = &self.w_mean {
                     lanes::add_vector(1.0, &m.as_slice()[k * m.nrows()..(k + 1) * m.nrows()], &mut out.w);

@@ -12,7 +12,7 @@
 //! sqrt written here from +, −, ×, ÷ alone: the same bits on every platform, whatever its libm.
 
 use super::lane_rng::LaneRng;
-use crate::sim::lanes::{self, LANES, Row};
+use crate::sim::lanes::{self, Build, LANES, Row};
 
 /// r, the start of the tail, and v, the area of each layer, for 256 layers (Marsaglia–Tsang 2000).
 const R: f64 = 3.654_152_885_361_008_8;
@@ -165,26 +165,99 @@ fn slow(rng: &mut LaneRng, lane: usize, mut bits: u64) -> f64 {
 }
 
 /// Row `out` ← one standard normal per lane, each from its lane's stream: the fast path over the
-/// whole row, then the rejected lanes one by one.
+/// whole row (with the table lookups as vector gathers in the AVX2 and AVX-512 builds), then the
+/// rejected lanes one by one.
+///
+/// # Safety
+/// The processor has `build`'s features (the caller passes the build it runs in, which
+/// [`lanes::build`] chose; [`Build::Baseline`] is always safe).
 #[inline(always)]
-pub fn normal_row(rng: &mut LaneRng, out: &mut Row) {
+pub(crate) unsafe fn normal_row(rng: &mut LaneRng, out: &mut Row, build: Build) {
     let mut bits = [0u64; LANES];
     rng.next_row(&mut bits);
-    let mut rejected = [0u8; LANES];
-    for ((o, &b), r) in out.iter_mut().zip(&bits).zip(&mut rejected) {
+    let rejected = match build {
+        // SAFETY: the caller guarantees the features.
+        #[cfg(target_arch = "x86_64")]
+        Build::Avx512 => unsafe { fast_avx512(&bits, out) },
+        #[cfg(target_arch = "x86_64")]
+        Build::Avx2 => unsafe { fast_avx2(&bits, out) },
+        _ => fast(&bits, out),
+    };
+    // Each lane is rejected with p ≈ 1.2 %: most rows have none or one.
+    let mut word = rejected;
+    while word != 0 {
+        let l = word.trailing_zeros() as usize;
+        out[l] = slow(rng, l, bits[l]);
+        word &= word - 1;
+    }
+}
+
+/// One bit per lane of a row: the rejection mask of the fast path.
+const _: () = assert!(LANES == 64);
+
+/// The fast path over a row, lane by lane: x = u X\[i] into `out`, and the mask of the lanes
+/// whose |x| ≥ X\[i+1] (the ones [`slow`] must finish).
+#[inline(always)]
+fn fast(bits: &[u64; LANES], out: &mut Row) -> u64 {
+    let mut rejected = 0;
+    for (l, (o, &b)) in out.iter_mut().zip(bits).enumerate() {
         let (i, _, x) = try_of(b);
         *o = x;
-        *r = u8::from(x.abs() >= TABLES.x[i + 1]);
+        rejected |= u64::from(x.abs() >= TABLES.x[i + 1]) << l;
     }
-    // Eight lanes' flags per word: most words are zero (each lane is rejected with p ≈ 1.2 %).
-    for (w, flags) in rejected.chunks_exact(8).enumerate() {
-        let mut word = u64::from_le_bytes(flags.try_into().expect("eight flags"));
-        while word != 0 {
-            let l = 8 * w + word.trailing_zeros() as usize / 8;
-            out[l] = slow(rng, l, bits[l]);
-            word &= word - 1;
+    rejected
+}
+
+/// [`fast`] eight lanes at a time with AVX-512 gathers: the same operations on the same values
+/// (a gather only loads), so the same bits and the same mask.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn fast_avx512(bits: &[u64; LANES], out: &mut Row) -> u64 {
+    use std::arch::x86_64::*;
+    let (low, two, three) = (_mm512_set1_epi64(0xff), _mm512_set1_epi64(TWO as i64), _mm512_set1_pd(3.0));
+    let edges = TABLES.x.as_ptr();
+    let mut rejected = 0;
+    for c in 0..LANES / 8 {
+        // SAFETY: lanes 8c..8c+8 are in the row; i ≤ 255, so X[i] and X[i + 1] are in the table.
+        unsafe {
+            let b = _mm512_loadu_si512(bits.as_ptr().add(8 * c).cast());
+            let i = _mm512_and_si512(b, low);
+            let u = _mm512_sub_pd(_mm512_castsi512_pd(_mm512_or_si512(_mm512_srli_epi64::<12>(b), two)), three);
+            let x = _mm512_mul_pd(u, _mm512_i64gather_pd::<8>(i, edges));
+            _mm512_storeu_pd(out.as_mut_ptr().add(8 * c), x);
+            let next = _mm512_i64gather_pd::<8>(i, edges.add(1));
+            let m = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(_mm512_abs_pd(x), next);
+            rejected |= u64::from(m) << (8 * c);
         }
     }
+    rejected
+}
+
+/// [`fast`] four lanes at a time with AVX2 gathers (the same bits and mask).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn fast_avx2(bits: &[u64; LANES], out: &mut Row) -> u64 {
+    use std::arch::x86_64::*;
+    let (low, two, three) = (_mm256_set1_epi64x(0xff), _mm256_set1_epi64x(TWO as i64), _mm256_set1_pd(3.0));
+    let sign = _mm256_set1_pd(-0.0);
+    let edges = TABLES.x.as_ptr();
+    let mut rejected = 0;
+    for c in 0..LANES / 4 {
+        // SAFETY: lanes 4c..4c+4 are in the row; i ≤ 255, so X[i] and X[i + 1] are in the table.
+        unsafe {
+            let b = _mm256_loadu_si256(bits.as_ptr().add(4 * c).cast());
+            let i = _mm256_and_si256(b, low);
+            let u = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(b), two)), three);
+            let x = _mm256_mul_pd(u, _mm256_i64gather_pd::<8>(edges, i));
+            _mm256_storeu_pd(out.as_mut_ptr().add(4 * c), x);
+            let next = _mm256_i64gather_pd::<8>(edges.add(1), i);
+            let m = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(_mm256_andnot_pd(sign, x), next));
+            rejected |= (m as u64) << (4 * c);
+        }
+    }
+    rejected
 }
 
 /// One standard normal from lane `lane` alone, on the scalar path only: the same draw
@@ -201,12 +274,13 @@ pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
     match lanes::build() {
         // SAFETY: build() names only a build whose features the processor has.
         #[cfg(target_arch = "x86_64")]
-        lanes::Build::Avx512 => unsafe { normal_rows_avx512(rng, out) },
+        Build::Avx512 => unsafe { normal_rows_avx512(rng, out) },
         #[cfg(target_arch = "x86_64")]
-        lanes::Build::Avx2 => unsafe { normal_rows_avx2(rng, out) },
+        Build::Avx2 => unsafe { normal_rows_avx2(rng, out) },
         _ => {
             for r in out {
-                normal_row(rng, r);
+                // SAFETY: the baseline build runs everywhere.
+                unsafe { normal_row(rng, r, Build::Baseline) };
             }
         }
     }
@@ -217,7 +291,8 @@ pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
 unsafe fn normal_rows_avx512(rng: &mut LaneRng, out: &mut [Row]) {
     for r in out {
-        normal_row(rng, r);
+        // SAFETY: this function runs only where the processor has AVX-512.
+        unsafe { normal_row(rng, r, Build::Avx512) };
     }
 }
 
@@ -226,6 +301,7 @@ unsafe fn normal_rows_avx512(rng: &mut LaneRng, out: &mut [Row]) {
 #[target_feature(enable = "avx2")]
 unsafe fn normal_rows_avx2(rng: &mut LaneRng, out: &mut [Row]) {
     for r in out {
-        normal_row(rng, r);
+        // SAFETY: this function runs only where the processor has AVX2.
+        unsafe { normal_row(rng, r, Build::Avx2) };
     }
 }
