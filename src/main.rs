@@ -238,8 +238,7 @@ fn main_inner(cli: Cli) -> Result<ExitCode> {
                     Ok(())
                 }
                 None => {
-                    let outcomes =
-                        exps.iter().map(|e| pool.install(|| pipeline::run(e, !quiet))).collect::<Result<Vec<_>>>()?;
+                    let outcomes = pool.install(|| pipeline::run_variants(&exps, !quiet))?;
                     let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
                     report_runs(&runs, dir, &command_line, quiet)
                 }
@@ -355,8 +354,7 @@ fn check(a: CheckArgs) -> Result<ExitCode> {
         let dir = std::env::temp_dir().join(format!("filterbench-pilot-{}", std::process::id()));
         std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
         let piloted = (|| {
-            let outcomes =
-                pilot.iter().map(|e| pool.install(|| pipeline::run(e, false))).collect::<Result<Vec<_>>>()?;
+            let outcomes = pool.install(|| pipeline::run_variants(&pilot, false))?;
             let runs: Vec<_> = pilot.iter().zip(&outcomes).collect();
             report::parquet::write_tables(&runs, &dir)?;
             run::evaluate_folder(&dir, &pilot, rates, a.baseline.as_deref())
@@ -389,7 +387,7 @@ fn check(a: CheckArgs) -> Result<ExitCode> {
     };
     let mut result = None;
     publish(&target, |dir| {
-        let outcomes = exps.iter().map(|e| pool.install(|| pipeline::run(e, !a.quiet))).collect::<Result<Vec<_>>>()?;
+        let outcomes = pool.install(|| pipeline::run_variants(&exps, !a.quiet))?;
         let runs: Vec<_> = exps.iter().zip(&outcomes).collect();
         report_runs(&runs, dir, &command_line, true)?;
         let r = run::evaluate_folder(dir, &exps, rates, a.baseline.as_deref())?;

@@ -18,6 +18,8 @@ use crate::numerics::linalg::Mat;
 use crate::sim::montecarlo::{self, Partial, PlantOps, RatioCheck};
 use crate::sim::noise::JointInput;
 
+use rayon::prelude::*;
+
 use super::design::DesignedFilter;
 use super::outcome::{Evaluated, FilterOutcome, ScenarioOutcome};
 use super::scenarios::Setup;
@@ -100,24 +102,28 @@ fn exact_of(p: &Plant, r: &Realization, setup: &Setup) -> Result<ExactError> {
 /// simulates in them too.
 pub(crate) fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, Vec<Option<ErrorForm>>)> {
     let exp = engine.exp;
-    let exact = engine
+    // One filter per task: the recursions are independent, and between two scenarios' Monte Carlo
+    // they would otherwise leave every core but one idle. The first failure in file order is the
+    // one reported.
+    let each = engine
         .reals
-        .iter()
+        .par_iter()
         .zip(&exp.filters)
-        .map(|(r, f)| exact_of(&exp.plant, r, setup)?.trusted(&f.name))
-        .collect::<Result<Vec<_>>>()?;
-    let forms = exact
-        .iter()
-        .zip(&engine.reals)
-        .map(|(e, r)| (e.coordinates == exact::Coordinates::Error).then(|| exact::error_form(&exp.plant, r).ok())?)
-        .collect();
-    Ok((exact, forms))
+        .map(|(r, f)| {
+            let e = exact_of(&exp.plant, r, setup)?.trusted(&f.name)?;
+            let form =
+                (e.coordinates == exact::Coordinates::Error).then(|| exact::error_form(&exp.plant, r).ok()).flatten();
+            Ok((e, form))
+        })
+        .collect::<Vec<Result<_>>>();
+    each.into_iter().collect::<Result<Vec<_>>>().map(|v| v.into_iter().unzip())
 }
 
 /// Where a run's Monte Carlo statistics come from, chosen once by the command.
 pub enum MonteCarlo {
     /// Every block, simulated here; a progress bar per scenario when `progress`.
-    Run { progress: bool },
+    /// Side by side with the other variants' bars under one `MultiProgress`, if shown.
+    Run { progress: Option<indicatif::MultiProgress> },
     /// Every block, from a merge's shards (`filterbench merge`): per scenario every shard's tree
     /// nodes in block order and the per-trial J in trial order. The designs made here must have
     /// `fingerprint`, those the shards ran.
@@ -137,7 +143,8 @@ fn same_designs(expected: &str, ours: &str) -> Result<()> {
 
 /// The Monte Carlo statistics of [`MonteCarlo`], scenario by scenario.
 pub(super) enum Source {
-    Run(ProgressBar),
+    /// The bar, and the variant's name in front of its messages.
+    Run(ProgressBar, String),
     Merged(std::vec::IntoIter<Partial>),
 }
 
@@ -145,7 +152,14 @@ impl Source {
     /// The source `mc`; a merge's shards are refused unless they ran the designs of `ours`.
     pub(super) fn new(exp: &Experiment, mc: MonteCarlo, ours: impl FnOnce() -> String) -> Result<Self> {
         Ok(match mc {
-            MonteCarlo::Run { progress } => Source::Run(progress_bar(exp.trials as u64, progress)),
+            MonteCarlo::Run { progress } => {
+                let bar = progress_bar(exp.trials as u64, progress.is_some());
+                let bar = match progress {
+                    Some(bars) => bars.add(bar),
+                    None => bar,
+                };
+                Source::Run(bar, exp.variant.as_ref().map_or(String::new(), |v| format!("[{v}] ")))
+            }
             MonteCarlo::Merged { fingerprint, partials } => {
                 same_designs(&fingerprint, &ours())?;
                 Source::Merged(partials.into_iter())
@@ -155,9 +169,9 @@ impl Source {
 
     /// Shows scenario `index` of `count` on the progress bar.
     pub(super) fn start(&self, index: usize, count: usize, name: &str) {
-        if let Source::Run(bar) = self {
+        if let Source::Run(bar, variant) = self {
             bar.reset();
-            bar.set_message(format!("scenario {}/{count} {name}", index + 1));
+            bar.set_message(format!("{variant}scenario {}/{count} {name}", index + 1));
         }
     }
 
@@ -165,7 +179,7 @@ impl Source {
     /// the merge's next scenario checked against it.
     fn statistics(&mut self, sc: &montecarlo::Scenario, exp: &Experiment) -> Result<Partial> {
         match self {
-            Source::Run(bar) => {
+            Source::Run(bar, _) => {
                 let trials = exp.trials as u64;
                 Ok(montecarlo::run_range(sc, trials, 0..montecarlo::blocks(trials), exp.per_trial, &|n| bar.inc(n)))
             }
@@ -174,7 +188,7 @@ impl Source {
     }
 
     pub(super) fn finish(&self) {
-        if let Source::Run(bar) = self {
+        if let Source::Run(bar, _) = self {
             bar.finish_and_clear();
         }
     }

@@ -28,7 +28,21 @@ use evaluate::Engine;
 
 /// Runs the whole experiment on the current rayon pool.
 pub fn run(exp: &Experiment, show_progress: bool) -> Result<RunOutcome> {
-    execute(exp, MonteCarlo::Run { progress: show_progress })
+    execute(exp, MonteCarlo::Run { progress: show_progress.then(indicatif::MultiProgress::new) })
+}
+
+/// Runs every variant of one experiment file ([`crate::config::load`]'s list) side by side on the
+/// current rayon pool, each as [`run`] would alone (so the same bits), one progress bar per
+/// variant. One after the other, each variant's serial stretches (its last design, a scenario's
+/// setup) leave cores idle that another variant's work now fills. The memory budget
+/// ([`budget::check`]) already adds up the variants' peaks. The first failure in file order is the
+/// one reported.
+pub fn run_variants(exps: &[Experiment], show_progress: bool) -> Result<Vec<RunOutcome>> {
+    use rayon::prelude::*;
+    let bars = show_progress.then(indicatif::MultiProgress::new);
+    let outcomes: Vec<Result<RunOutcome>> =
+        exps.par_iter().with_max_len(1).map(|e| execute(e, MonteCarlo::Run { progress: bars.clone() })).collect();
+    outcomes.into_iter().collect()
 }
 
 /// The pipeline: the designs, then scenario by scenario its setup, exact errors, Monte Carlo

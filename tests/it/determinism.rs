@@ -50,6 +50,33 @@ fn identical_bits_with_multiplicative_noise_and_dropouts() {
     identical(&exp);
 }
 
+#[test]
+fn variants_side_by_side_give_each_variants_bits_alone() {
+    // `experiment` runs a file's variants side by side (`pipeline::run_variants`); each must be the
+    // bits of that variant run alone on one thread: aniso_dropout's three dropout rates, N = 40.
+    let tmp = common::TempDir::new();
+    let path = tmp.path().join("aniso_dropout.toml");
+    std::fs::write(&path, common::text("aniso_dropout").patch("horizon = 200", "horizon = 40")).unwrap();
+    let overrides = filterbench::config::Overrides { trials: Some(300), ..Default::default() };
+    let exps = filterbench::config::load_variants(&path, &overrides).unwrap();
+    assert_eq!(exps.len(), 3);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let together = pool.install(|| pipeline::run_variants(&exps, false)).unwrap();
+    for (exp, b) in exps.iter().zip(&together) {
+        let a = run_with(1, exp);
+        let gains = |o: &pipeline::RunOutcome| -> Vec<u64> {
+            o.filters.iter().flat_map(|f| f.anisotropic.map(|n| n.norm_sq.to_bits())).collect()
+        };
+        assert_eq!(gains(&a), gains(b), "{:?}: designs differ", exp.variant);
+        for (x, y) in a.scenarios.iter().zip(&b.scenarios) {
+            assert_eq!(bits(&x.mc), bits(&y.mc), "{:?} {}: statistics differ side by side", exp.variant, x.name);
+            for (p, q) in x.exact.iter().zip(&y.exact) {
+                assert_eq!(p.total.to_bits(), q.total.to_bits(), "{:?} {}: exact error", exp.variant, x.name);
+            }
+        }
+    }
+}
+
 /// Every figure of the Monte Carlo statistics, as bits.
 pub(crate) fn bits(mc: &filterbench::sim::montecarlo::McStats) -> Vec<u64> {
     let w = |w: &filterbench::sim::stats::Welford| [w.n, w.mean.to_bits(), w.variance().to_bits()];

@@ -15,6 +15,8 @@
 //! The record is one draw of the truth (Gaussian, the nominal covariances) from its own random
 //! stream, independent of every Monte Carlo trial ([`super::super::RunView::pilot_record`]).
 
+use rayon::prelude::*;
+
 use super::projection::{Basis, ill_conditioned, projected, realization};
 use crate::error::{Error, Result};
 use crate::model::plant::{Covariances, Plant};
@@ -74,7 +76,9 @@ pub fn choose_alpha(r: &Pilot, basis: Basis, n: usize, alphas: &[f64]) -> Result
     if alphas.iter().any(|a| !(*a > 0.0 && a.is_finite())) || alphas.windows(2).any(|w| w[1] >= w[0]) {
         return Err(Error::invalid("alphas", "a decreasing grid of α > 0"));
     }
-    let d = alphas.iter().map(|a| discrepancy(r, basis, n, *a, "alphas")).collect::<Result<Vec<f64>>>()?;
+    // The grid's points are independent filters: one per task (the first failure in grid order is reported).
+    let d = alphas.par_iter().map(|a| discrepancy(r, basis, n, *a, "alphas")).collect::<Vec<_>>();
+    let d = d.into_iter().collect::<Result<Vec<f64>>>()?;
     let alpha = match d.iter().position(|v| *v > 1.0) {
         None => *alphas.last().expect("a grid"),
         Some(0) => alphas[0],
