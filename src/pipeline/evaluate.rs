@@ -158,7 +158,9 @@ impl Source {
                     Some(bars) => bars.add(bar),
                     None => bar,
                 };
-                Source::Run(bar, exp.variant.as_ref().map_or(String::new(), |v| format!("[{v}] ")))
+                let variant = exp.variant.as_ref().map_or(String::new(), |v| format!("[{v}] "));
+                bar.set_message(format!("{variant}scenarios being set up"));
+                Source::Run(bar, variant)
             }
             MonteCarlo::Merged { fingerprint, partials } => {
                 same_designs(&fingerprint, &ours())?;
