@@ -134,6 +134,35 @@ impl Lemma1 {
     /// positive definite (q ≥ 1/λmax(Λ)).
     pub fn at(&self, q: f64) -> Option<AtQ> {
         let nxi = self.steps.first()?.f.nrows();
+        let (kept, ln_det) = self.backward(q)?;
+        let mut p = Mat::zeros(nxi, nxi);
+        let mut tau = 0.0;
+        for (st, (s, lt, nt)) in self.steps.iter().zip(kept.iter().rev()) {
+            let lp = lt * &p;
+            tau += (s * nt).trace() + q * (&lp * lt.transpose()).trace();
+            let closed = &st.f + q * &st.e * lt;
+            p = symmetrize(&(&closed * &p * closed.transpose() + &st.e * s * st.e.transpose()));
+        }
+        (ln_det.is_finite() && tau.is_finite()).then_some(AtQ { ln_det, tau })
+    }
+
+    /// The worst input's shaping filter at q (module docs): per step (F̄, Ē, L(k) = q L̃(k),
+    /// S(k)^½ its Cholesky factor), w\[k] = L m\[k] + S^½ v\[k], m\[k+1] = F̄ m + Ē w\[k]; None where
+    /// some S(k) is not positive definite. Its input has covariance Σ(q) = (I − qΛ)⁻¹ unscaled.
+    pub fn shaping(&self, q: f64) -> Option<Vec<[Mat; 4]>> {
+        let (kept, _) = self.backward(q)?;
+        self.steps
+            .iter()
+            .zip(kept.iter().rev())
+            .map(|(st, (s, lt, _))| Some([st.f.clone(), st.e.clone(), q * lt, s.clone().cholesky()?.l()]))
+            .collect()
+    }
+
+    /// (2.8)–(2.10) backward at q: (S(k), L̃(k), Ñ(k)) in backward order and Σ_k ln det S(k)⁻¹,
+    /// or None where some S(k) is not positive definite.
+    #[allow(clippy::type_complexity)]
+    fn backward(&self, q: f64) -> Option<(Vec<(Mat, Mat, Mat)>, f64)> {
+        let nxi = self.steps.first()?.f.nrows();
         let mut r2 = Mat::zeros(nxi, nxi);
         let mut ln_det = 0.0;
         // (S(k), L̃(k), Ñ(k)) for the forward pass, in backward order.
@@ -151,15 +180,7 @@ impl Lemma1 {
             r2 = symmetrize(&(st.f.transpose() * &r2 * &st.f + q * bt.transpose() * &lt));
             kept.push((s, lt, nt));
         }
-        let mut p = Mat::zeros(nxi, nxi);
-        let mut tau = 0.0;
-        for (st, (s, lt, nt)) in self.steps.iter().zip(kept.iter().rev()) {
-            let lp = lt * &p;
-            tau += (s * nt).trace() + q * (&lp * lt.transpose()).trace();
-            let closed = &st.f + q * &st.e * lt;
-            p = symmetrize(&(&closed * &p * closed.transpose() + &st.e * s * st.e.transpose()));
-        }
-        (ln_det.is_finite() && tau.is_finite()).then_some(AtQ { ln_det, tau })
+        Some((kept, ln_det))
     }
 
     /// A(Σ(q)) = ½ ln det(I − qΛ) + (lw/2) ln(1 + qτ/lw) (module docs), with the gain² τ/(lw + qτ).

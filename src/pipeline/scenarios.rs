@@ -9,7 +9,7 @@ use crate::model::choice::{CovChoice, check_point};
 use crate::model::disturbance::{self, DisturbanceChoice};
 use crate::model::plant::Covariances;
 use crate::numerics::linalg::{Mat, Vector};
-use crate::sim::noise::{JointInput, NoiseSampler};
+use crate::sim::noise::{JointInput, NoiseSampler, ShapeStep, Shaping};
 
 use super::design::DesignedFilter;
 
@@ -45,9 +45,11 @@ pub fn setup(exp: &Experiment, filters: &[DesignedFilter], index: usize, cov: &C
             filters[*filter].worst.as_ref().and_then(|w| w.disturbance.clone()),
         ),
     };
-    let joint = joint_input(exp, filters, &s.input)?;
-    let sampler =
-        NoiseSampler::new(&exp.plant, &covariances, &s.shape).with_mean(w_mean.clone()).with_joint(joint.clone());
+    let (joint, shaping) = joint_input(exp, filters, &s.input)?;
+    let sampler = NoiseSampler::new(&exp.plant, &covariances, &s.shape)
+        .with_mean(w_mean.clone())
+        .with_joint(joint.clone())
+        .with_shaping(shaping);
     let covariance_label = match &s.input {
         InputChoice::Coloured { anisotropy } => format!("coloured(a={anisotropy})"),
         InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
@@ -112,10 +114,15 @@ pub fn guarantee_holds(exp: &Experiment, design: &Design, cov: &Covariances, joi
 }
 
 /// The joint input of a scenario, if it has one, with the ellipsoid weighted by the nominal
-/// covariances K = blockdiag(x0, w, …, w) (seed 002).
-fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice) -> Result<Option<JointInput>> {
+/// covariances K = blockdiag(x0, w, …, w) (seed 002), and the recursion that draws it where there is
+/// one (`sim::noise::Shaping`: seed 003's coloured and worst inputs).
+fn joint_input(
+    exp: &Experiment,
+    filters: &[DesignedFilter],
+    input: &InputChoice,
+) -> Result<(Option<JointInput>, Option<Shaping>)> {
     let k = || crate::analysis::hinf::input_weight(&exp.plant, &exp.nominal);
-    Ok(match input {
+    let joint = match input {
         InputChoice::Independent => None,
         InputChoice::EllipsoidSurface => {
             Some(JointInput::Ellipsoid { k_half: crate::numerics::linalg::psd_factor(&k()), surface: true })
@@ -135,18 +142,55 @@ fn joint_input(exp: &Experiment, filters: &[DesignedFilter], input: &InputChoice
             Some(JointInput::Fixed { xi })
         }
         InputChoice::Coloured { anisotropy } => {
-            let (sigma, _) =
-                crate::analysis::anisotropy::coloured_covariance(&exp.nominal.w(), exp.plant.steps(), *anisotropy)?;
-            Some(anisotropic_input(exp, &sigma))
+            let w = exp.nominal.w();
+            let (sigma, rho) = crate::analysis::anisotropy::coloured_covariance(&w, exp.plant.steps(), *anisotropy)?;
+            let joint = anisotropic_input(exp, &sigma);
+            let shaping = ar1_shaping(exp, &w, rho);
+            return Ok(with_shaping(joint, shaping));
         }
         InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
             let real = &filters[*filter].design.realization;
-            let (_, sigma) = crate::analysis::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?;
+            let (norm, sigma) = crate::analysis::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?;
             // Σ(q) has tr Σ = lw; give it the power of white nominal noise.
             let w = exp.nominal.w();
-            Some(anisotropic_input(exp, &(sigma * (w.trace() / w.nrows() as f64))))
+            let joint = anisotropic_input(exp, &(sigma * (w.trace() / w.nrows() as f64)));
+            let shaping = crate::analysis::lemma1::Lemma1::new(&exp.plant, real)
+                .ok()
+                .and_then(|l| l.shaping(norm.q))
+                .map(|steps| {
+                    let steps = steps.into_iter().map(|[a, b, c, d]| ShapeStep { a, b, c, d }).collect();
+                    Shaping::new(crate::numerics::linalg::psd_factor(exp.nominal.x0()), steps)
+                });
+            return Ok(with_shaping(joint, shaping));
         }
-    })
+    };
+    Ok((joint, None))
+}
+
+/// The joint input and its recursion, kept only where the recursion's factor is the input's
+/// ([`Shaping::matching`]).
+fn with_shaping(joint: JointInput, shaping: Option<Shaping>) -> (Option<JointInput>, Option<Shaping>) {
+    let shaping = match &joint {
+        JointInput::Correlated { factor } => shaping.and_then(|s| s.matching(factor)),
+        _ => None,
+    };
+    (Some(joint), shaping)
+}
+
+/// The AR(1) colour of [`crate::analysis::anisotropy::coloured_covariance`] as a recursion: the
+/// state is the last w, w\[0] = L_W u\[0] and w\[k] = ρ w\[k−1] + √(1−ρ²) L_W u\[k].
+fn ar1_shaping(exp: &Experiment, w: &Mat, rho: f64) -> Option<Shaping> {
+    let lw = nalgebra::Cholesky::new(w.clone())?.l();
+    let nw = w.nrows();
+    let steps = (0..exp.plant.steps())
+        .map(|k| ShapeStep {
+            a: Mat::zeros(nw, nw),
+            b: Mat::identity(nw, nw),
+            c: if k == 0 { Mat::zeros(nw, nw) } else { Mat::identity(nw, nw) * rho },
+            d: if k == 0 { lw.clone() } else { &lw * (1.0 - rho * rho).sqrt() },
+        })
+        .collect();
+    Some(Shaping::new(crate::numerics::linalg::psd_factor(exp.nominal.x0()), steps))
 }
 
 /// J = col(x0 − E x0, w\[0..N]) with x0 at its nominal covariance and W = col(w\[0..N]) ~ (0, Σ).

@@ -250,3 +250,59 @@ fn a_failed_sdp_is_a_clear_error_with_clarabel_status() {
     eprintln!("{err}");
     assert!(err.contains("clarabel status"), "{err}");
 }
+
+#[test]
+fn shaping_recursions_draw_what_the_dense_factors_draw() {
+    // Every coloured and worst-case scenario of aniso_dropout (p = 0.95, N = 40) is drawn by a
+    // recursion (the AR(1) colour, Lemma 1's shaping filter of each filter's worst input); its draws
+    // must be the dense Cholesky product's to rounding, trial by trial.
+    use filterbench::pipeline::{design_all, scenario_covariances, scenarios};
+    let exp = short("p=0.95", 40);
+    let filters = design_all(&exp).unwrap();
+    let covs = scenario_covariances(&exp, &filters).unwrap();
+    let mut shaped = 0;
+    for (i, cov) in covs.iter().enumerate() {
+        let s = scenarios::setup(&exp, &filters, i, cov).unwrap();
+        let Some(joint) = &s.joint else { continue };
+        assert!(s.sampler.is_shaped(), "scenario {} keeps the dense product", exp.scenarios[i].name);
+        shaped += 1;
+        let dense =
+            NoiseSampler::new(&exp.plant, &s.covariances, &exp.scenarios[i].shape).with_joint(Some(joint.clone()));
+        assert!(!dense.is_shaped());
+        let (mut a, mut b) = (s.sampler.workspace(), dense.workspace());
+        for t in [0, 7, 63, 64, 1000] {
+            s.sampler.draw_trial(exp.seed, i, t, &mut a);
+            dense.draw_trial(exp.seed, i, t, &mut b);
+            let top = b.w.amax();
+            assert!(top > 0.0);
+            let diff = (&a.w - &b.w).amax();
+            assert!(diff <= 1e-12 * top, "{} trial {t}: |Δw| {diff:e} against {top}", exp.scenarios[i].name);
+        }
+    }
+    assert_eq!(shaped, 8, "two coloured and six worst-case scenarios");
+}
+
+#[test]
+fn a_recursion_that_is_not_the_factor_is_refused() {
+    use filterbench::sim::noise::{ShapeStep, Shaping};
+    // The AR(1) colour at ρ against the factor of another ρ: the implied factors differ, so the run
+    // must keep the dense product.
+    let w = Mat::from_row_slice(2, 2, &[1.0, 0.3, 0.3, 0.5]);
+    let steps = 30;
+    let (sigma, rho) = coloured_covariance(&w, steps, 20.0).unwrap();
+    let factor = block_diag(&[&Mat::zeros(2, 2), &psd_factor(&sigma)]);
+    let lw = w.clone().cholesky().unwrap().l();
+    let ar1 = |r: f64| {
+        let st = (0..steps)
+            .map(|k| ShapeStep {
+                a: Mat::zeros(2, 2),
+                b: Mat::identity(2, 2),
+                c: Mat::identity(2, 2) * if k == 0 { 0.0 } else { r },
+                d: if k == 0 { lw.clone() } else { &lw * (1.0 - r * r).sqrt() },
+            })
+            .collect();
+        Shaping::new(Mat::zeros(2, 2), st)
+    };
+    assert!(ar1(rho).matching(&factor).is_some(), "the right ρ matches");
+    assert!(ar1(rho * 0.999).matching(&factor).is_none(), "another ρ is refused");
+}

@@ -6,6 +6,7 @@
 mod joint;
 mod lane_rng;
 mod sampler;
+mod shaping;
 mod ziggurat;
 
 pub use joint::JointInput;
@@ -15,5 +16,6 @@ pub(crate) use sampler::LaneDraw;
 pub use sampler::NoiseSampler;
 #[doc(hidden)]
 pub use sampler::{Stream, trial_rng};
+pub use shaping::{ShapeStep, Shaping};
 #[doc(hidden)]
 pub use ziggurat::{exp, ln, normal_lane, normal_rows};

@@ -12,6 +12,7 @@ use rand::rngs::Xoshiro256PlusPlus;
 
 use super::joint::JointInput;
 use super::lane_rng::LaneRng;
+use super::shaping::Shaping;
 use super::ziggurat;
 use crate::model::plant::{Covariances, Modes, Plant};
 use crate::model::shape::{Shape, StandardDraw};
@@ -69,6 +70,8 @@ pub struct NoiseSampler {
     /// panel of its factor's rows needs.
     joint: Option<JointInput>,
     joint_widths: Vec<usize>,
+    /// The joint input's recursion, where it has one that draws what its factor does.
+    shaping: Option<Shaping>,
     /// The Markov chain of the plant's modes (dropouts included).
     chain: Option<Modes>,
     /// The multiplicative factors' ζ_i(k) (seed 003 (3.1)).
@@ -92,6 +95,9 @@ pub struct LaneDraw {
     u: Vec<Row>,
     uj: Vec<Row>,
     xi: Vec<Row>,
+    /// The shaping recursion's state and the next one.
+    shape_m: Vec<Row>,
+    shape_next: Vec<Row>,
 }
 
 /// One trial's draws, all steps: the initial state and w\[k] as column k of `w` (for tests and
@@ -117,6 +123,7 @@ impl NoiseSampler {
             w_mean: None,
             joint: None,
             joint_widths: Vec::new(),
+            shaping: None,
             chain: plant.modes().map(std::borrow::Cow::into_owned),
             factors: plant.factors.iter().map(|f| f.shape.sampler()).collect(),
         }
@@ -127,6 +134,18 @@ impl NoiseSampler {
         self.joint_widths = joint.as_ref().map_or_else(Vec::new, JointInput::panel_widths);
         self.joint = joint;
         self
+    }
+
+    /// Draws the joint input's correlated ξ by `shaping` instead of its factor (the same ξ to
+    /// rounding: [`Shaping::matching`]).
+    pub fn with_shaping(mut self, shaping: Option<Shaping>) -> Self {
+        self.shaping = shaping;
+        self
+    }
+
+    /// Whether the joint input is drawn by its recursion rather than its factor.
+    pub fn is_shaped(&self) -> bool {
+        self.shaping.is_some()
     }
 
     /// Adds a deterministic sequence to w (column k is added to w\[k]).
@@ -149,6 +168,8 @@ impl NoiseSampler {
             u: lanes::zeros(self.l0.ncols().max(self.lw.ncols())),
             uj: lanes::zeros(jd),
             xi: lanes::zeros(jd),
+            shape_m: lanes::zeros(self.shaping.as_ref().map_or(0, Shaping::states)),
+            shape_next: lanes::zeros(self.shaping.as_ref().map_or(0, Shaping::states)),
         }
     }
 
@@ -230,7 +251,10 @@ impl NoiseSampler {
                 }
                 JointInput::Fixed { .. } => {}
             }
-            j.map(&self.joint_widths, &out.uj, &mut out.xi);
+            match &self.shaping {
+                Some(sh) => sh.map(&out.uj, &mut out.xi, &mut out.shape_m, &mut out.shape_next),
+                None => j.map(&self.joint_widths, &out.uj, &mut out.xi),
+            }
             let n = self.m0.len();
             out.x0.copy_from_slice(&out.xi[..n]);
             lanes::add_vector(1.0, self.m0.as_slice(), &mut out.x0);
