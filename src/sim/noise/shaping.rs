@@ -46,7 +46,7 @@ impl Shaping {
 
     /// This recursion, scaled so that its implied factor has the dense `factor`'s size (the
     /// worst inputs are scaled to the nominal noise's power), if it then equals `factor` to
-    /// [`MATCH`]; otherwise None, and the run keeps the product.
+    /// `MATCH` (1e-9 of its largest entry); otherwise None, and the run keeps the product.
     pub fn matching(mut self, factor: &Mat) -> Option<Self> {
         let g = self.implied_factor();
         if g.shape() != factor.shape() || g.norm() == 0.0 {

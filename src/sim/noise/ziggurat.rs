@@ -261,14 +261,14 @@ unsafe fn fast_avx2(bits: &[u64; LANES], out: &mut Row) -> u64 {
 }
 
 /// One standard normal from lane `lane` alone, on the scalar path only: the same draw
-/// [`normal_row`] gives that lane (tests check it).
+/// `normal_row` gives that lane (tests check it).
 pub fn normal_lane(rng: &mut LaneRng, lane: usize) -> f64 {
     let b = rng.next_lane(lane);
     slow(rng, lane, b)
 }
 
 /// Rows `out` ← standard normals, row after row (so each lane draws its row-0 value first), with
-/// the best vector build the processor has (the sampler calls [`normal_row`] from inside its own
+/// the best vector build the processor has (the sampler calls `normal_row` from inside its own
 /// vector build instead).
 pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
     match lanes::build() {
