@@ -145,7 +145,9 @@ fn joint_input(
             let w = exp.nominal.w();
             let (sigma, rho) = crate::analysis::anisotropy::coloured_covariance(&w, exp.plant.steps(), *anisotropy)?;
             let joint = anisotropic_input(exp, &sigma);
-            let shaping = ar1_shaping(exp, &w, rho);
+            let x0_half = crate::numerics::linalg::psd_factor(exp.nominal.x0());
+            let shaping =
+                nalgebra::Cholesky::new(w.clone()).map(|c| Shaping::ar1(x0_half, &c.l(), rho, exp.plant.steps()));
             return Ok(with_shaping(joint, shaping));
         }
         InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
@@ -175,22 +177,6 @@ fn with_shaping(joint: JointInput, shaping: Option<Shaping>) -> (Option<JointInp
         _ => None,
     };
     (Some(joint), shaping)
-}
-
-/// The AR(1) colour of [`crate::analysis::anisotropy::coloured_covariance`] as a recursion: the
-/// state is the last w, w\[0] = L_W u\[0] and w\[k] = ρ w\[k−1] + √(1−ρ²) L_W u\[k].
-fn ar1_shaping(exp: &Experiment, w: &Mat, rho: f64) -> Option<Shaping> {
-    let lw = nalgebra::Cholesky::new(w.clone())?.l();
-    let nw = w.nrows();
-    let steps = (0..exp.plant.steps())
-        .map(|k| ShapeStep {
-            a: Mat::zeros(nw, nw),
-            b: Mat::identity(nw, nw),
-            c: if k == 0 { Mat::zeros(nw, nw) } else { Mat::identity(nw, nw) * rho },
-            d: if k == 0 { lw.clone() } else { &lw * (1.0 - rho * rho).sqrt() },
-        })
-        .collect();
-    Some(Shaping::new(crate::numerics::linalg::psd_factor(exp.nominal.x0()), steps))
 }
 
 /// J = col(x0 − E x0, w\[0..N]) with x0 at its nominal covariance and W = col(w\[0..N]) ~ (0, Σ).

@@ -284,7 +284,7 @@ fn shaping_recursions_draw_what_the_dense_factors_draw() {
 
 #[test]
 fn a_recursion_that_is_not_the_factor_is_refused() {
-    use filterbench::sim::noise::{ShapeStep, Shaping};
+    use filterbench::sim::noise::Shaping;
     // The AR(1) colour at ρ against the factor of another ρ: the implied factors differ, so the run
     // must keep the dense product.
     let w = Mat::from_row_slice(2, 2, &[1.0, 0.3, 0.3, 0.5]);
@@ -292,17 +292,7 @@ fn a_recursion_that_is_not_the_factor_is_refused() {
     let (sigma, rho) = coloured_covariance(&w, steps, 20.0).unwrap();
     let factor = block_diag(&[&Mat::zeros(2, 2), &psd_factor(&sigma)]);
     let lw = w.clone().cholesky().unwrap().l();
-    let ar1 = |r: f64| {
-        let st = (0..steps)
-            .map(|k| ShapeStep {
-                a: Mat::zeros(2, 2),
-                b: Mat::identity(2, 2),
-                c: Mat::identity(2, 2) * if k == 0 { 0.0 } else { r },
-                d: if k == 0 { lw.clone() } else { &lw * (1.0 - r * r).sqrt() },
-            })
-            .collect();
-        Shaping::new(Mat::zeros(2, 2), st)
-    };
+    let ar1 = |r: f64| Shaping::ar1(Mat::zeros(2, 2), &lw, r, steps);
     assert!(ar1(rho).matching(&factor).is_some(), "the right ρ matches");
     assert!(ar1(rho * 0.999).matching(&factor).is_none(), "another ρ is refused");
 }

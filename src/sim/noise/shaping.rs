@@ -48,7 +48,7 @@ impl Shaping {
     /// worst inputs are scaled to the nominal noise's power), if it then equals `factor` to
     /// `MATCH` (1e-9 of its largest entry); otherwise None, and the run keeps the product.
     pub fn matching(mut self, factor: &Mat) -> Option<Self> {
-        let g = self.implied_factor();
+        let mut g = self.implied_factor();
         if g.shape() != factor.shape() || g.norm() == 0.0 {
             return None;
         }
@@ -58,13 +58,29 @@ impl Shaping {
         if !scale.is_finite() {
             return None;
         }
-        // Scaling the inputs' factors scales the state with them: C and the dynamics stay.
+        // Scaling the inputs' factors D scales the state and the output with them: C and the
+        // dynamics stay, and the implied factor's horizon rows scale by the same number.
         for st in &mut self.steps {
             st.d *= scale;
         }
-        let g = self.implied_factor();
-        let top = factor.amax();
-        ((&g - factor).amax() <= MATCH * top).then_some(self)
+        g.rows_mut(n0, g.nrows() - n0).scale_mut(scale);
+        ((&g - factor).amax() <= MATCH * factor.amax()).then_some(self)
+    }
+
+    /// The AR(1) colour of `analysis::anisotropy::coloured_covariance` over `steps` steps: the
+    /// state is the last w, w\[0] = L_W u\[0] and w\[k] = ρ w\[k−1] + √(1−ρ²) L_W u\[k], with
+    /// `w_half` = L_W the Cholesky factor of one step's covariance.
+    pub fn ar1(x0_half: Mat, w_half: &Mat, rho: f64, steps: usize) -> Self {
+        let nw = w_half.nrows();
+        let steps = (0..steps)
+            .map(|k| ShapeStep {
+                a: Mat::zeros(nw, nw),
+                b: Mat::identity(nw, nw),
+                c: Mat::identity(nw, nw) * if k == 0 { 0.0 } else { rho },
+                d: if k == 0 { w_half.clone() } else { w_half * (1.0 - rho * rho).sqrt() },
+            })
+            .collect();
+        Shaping::new(x0_half, steps)
     }
 
     /// The state dimension of the recursion.
