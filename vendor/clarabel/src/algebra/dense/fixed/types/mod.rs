@@ -1,0 +1,5 @@
+mod square;
+mod symmetric;
+
+pub(crate) use square::*;
+pub(crate) use symmetric::*;

@@ -1,0 +1,6 @@
+//! FFI friendly versions of internal solver types
+
+mod enums;
+mod traits;
+pub use enums::*;
+pub use traits::*;

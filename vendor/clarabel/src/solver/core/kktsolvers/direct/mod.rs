@@ -1,0 +1,2 @@
+mod quasidef;
+pub use quasidef::*;

@@ -1,0 +1,5 @@
+mod info;
+mod settings;
+
+pub use info::*;
+pub use settings::*;

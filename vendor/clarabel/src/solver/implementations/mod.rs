@@ -1,0 +1,3 @@
+//! Concrete implementations for specific problem formats.
+
+pub mod default;

@@ -1,0 +1,5 @@
+//! Internal timing functions and macros.
+
+#[allow(clippy::module_inception)]
+mod timers;
+pub use timers::*;
