@@ -23,7 +23,7 @@ impl<T> SupportedCone<T>
 where
     T: FloatT,
 {
-    pub(crate) fn to_sparse_expansion(&self) -> Option<SparseExpansionCone<T>> {
+    pub(crate) fn to_sparse_expansion(&self) -> Option<SparseExpansionCone<'_, T>> {
         match self {
             SupportedCone::SecondOrderCone(sc) => Some(SparseExpansionCone::SecondOrderCone(sc)),
             SupportedCone::GenPowerCone(sc) => Some(SparseExpansionCone::GenPowerCone(sc)),
