@@ -93,3 +93,78 @@ fn box_and_psd_bound_is_certified_and_tight() {
     assert!(r.upper >= best && r.upper >= r.value, "bound {} vs search {best}, solver {}", r.upper, r.value);
     assert!(r.upper - r.value <= r.objective_error + 1e-12, "bound {} far above the solver's {}", r.upper, r.value);
 }
+
+/// clarabel's chordal decomposition (whose setup filterbench patches: vendor/clarabel/FILTERBENCH.md)
+/// on a program with a known optimum: min Σ yᵢ subject to the tridiagonal T(y), diagonal y and
+/// off-diagonals aᵢ, being PSD. Its dual maximizes −2 Σ aᵢ Zᵢ,ᵢ₊₁ over correlation matrices Z, and
+/// on a path every choice of ±1 between neighbours is a rank-one correlation matrix, so the optimum
+/// is 2 Σ |aᵢ|. The PSD cone sits between two other cones, so its rows start at an offset and every
+/// variable also has rows outside it; clarabel splits it into cliques. With the decomposition on
+/// and off, each solve's objective is the closed form within that solve's own accuracy: its gap
+/// |primal − dual| plus its residual times the objective's scale.
+#[test]
+fn a_decomposed_psd_cone_gives_the_closed_form_optimum() {
+    use clarabel::algebra::CscMatrix;
+    use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+    let n = 40;
+    let a: Vec<f64> = (0..n - 1).map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.3 + 0.1).collect();
+    let optimum = 2.0 * a.iter().map(|v| v.abs()).sum::<f64>();
+    // clarabel's form: A x + s = b with s in the cones, so s = b − A x row by row.
+    let (mut rows, mut cols, mut vals, mut b) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    // y ≥ 0 (never binding at the optimum: every yᵢ there is positive).
+    for i in 0..n {
+        rows.push(b.len());
+        cols.push(i);
+        vals.push(-1.0);
+        b.push(0.0);
+    }
+    // svec T(y): the upper triangle column by column, off-diagonal entries scaled by √2.
+    let start = b.len();
+    for col in 0..n {
+        for row in 0..=col {
+            if row == col {
+                rows.push(b.len());
+                cols.push(col);
+                vals.push(-1.0);
+                b.push(0.0);
+            } else if row + 1 == col {
+                b.push(std::f64::consts::SQRT_2 * a[row]);
+            } else {
+                b.push(0.0);
+            }
+        }
+    }
+    assert_eq!(b.len() - start, n * (n + 1) / 2);
+    // Σ y ≤ 10³.
+    for i in 0..n {
+        rows.push(b.len());
+        cols.push(i);
+        vals.push(1.0);
+    }
+    b.push(1e3);
+    let cones =
+        [SupportedConeT::NonnegativeConeT(n), SupportedConeT::PSDTriangleConeT(n), SupportedConeT::NonnegativeConeT(1)];
+    let am = CscMatrix::new_from_triplets(b.len(), n, rows, cols, vals);
+    let p = CscMatrix::zeros((n, n));
+    let q = vec![1.0; n];
+    for decompose in [true, false] {
+        let settings =
+            DefaultSettingsBuilder::default().verbose(false).chordal_decomposition_enable(decompose).build().unwrap();
+        let mut solver = DefaultSolver::new(&p, &q, &am, &b, &cones, settings).unwrap();
+        let psd_cones = solver.data.cones.iter().filter(|c| matches!(c, SupportedConeT::PSDTriangleConeT(_))).count();
+        if decompose {
+            assert!(psd_cones > 1, "the tridiagonal cone is split into cliques ({psd_cones} PSD cones)");
+        } else {
+            assert_eq!(psd_cones, 1);
+        }
+        solver.solve();
+        let s = &solver.solution;
+        assert_eq!(s.status, SolverStatus::Solved, "decomposition {decompose}");
+        let accuracy = (s.obj_val - s.obj_val_dual).abs() + s.r_prim.max(s.r_dual) * (1.0 + optimum);
+        assert!(
+            (s.obj_val - optimum).abs() <= accuracy,
+            "decomposition {decompose}: {} against 2 Σ|aᵢ| = {optimum} (accuracy {accuracy:.1e})",
+            s.obj_val
+        );
+    }
+}
