@@ -504,6 +504,7 @@ fn get_block_indices(snode: &[usize], separator: &[usize], nv: usize) -> Vec<Blo
 struct RowColumns {
     rowptr: Vec<usize>,
     colval: Vec<usize>,
+    n: usize,
 }
 
 impl RowColumns {
@@ -523,13 +524,14 @@ impl RowColumns {
                 next[r] += 1;
             }
         }
-        RowColumns { rowptr, colval }
+        RowColumns { rowptr, colval, n: A.n }
     }
 
-    /// The sorted distinct columns with an entry in `rows`, with column 0 first if `with_first`.
+    /// The sorted distinct columns with an entry in `rows`, with column 0 first if `with_first`
+    /// (and A has a column 0: `0..A.n` visited none otherwise).
     fn touching(&self, rows: Range<usize>, with_first: bool) -> Vec<usize> {
         let mut cols: Vec<usize> = self.colval[self.rowptr[rows.start]..self.rowptr[rows.end]].to_vec();
-        if with_first {
+        if with_first && self.n > 0 {
             cols.push(0);
         }
         cols.sort_unstable();
