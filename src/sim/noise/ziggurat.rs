@@ -206,7 +206,7 @@ fn squeezed(i: usize, x: f64, y: f64) -> Option<bool> {
 }
 
 /// For the test that the squeeze changes no draw: its decision for height `y` of wedge i at x (if
-/// it makes one) and the exponential's, y < e^(−x²/2) as [`slow`] computes it.
+/// it makes one) and the exponential's, y < e^(−x²/2) as the slow path computes it.
 pub fn wedge_decisions(i: usize, x: f64, y: f64) -> (Option<bool>, bool) {
     (squeezed(i, x, y), y < pdf(x))
 }
