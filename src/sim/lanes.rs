@@ -259,15 +259,21 @@ pub(crate) fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out:
 /// after row over the whole block).
 #[inline(always)]
 pub(crate) fn squared_norm(e: &[Row], out: &mut Row) {
-    for c in (0..LANES).step_by(CHUNK) {
-        let mut acc = [0.0; CHUNK];
+    squared_norm_in::<CHUNK>(e, out)
+}
+
+/// [`squared_norm`] with `C` lanes per pass ([`gemm_in`]).
+#[inline(always)]
+pub(crate) fn squared_norm_in<const C: usize>(e: &[Row], out: &mut Row) {
+    for c in (0..LANES).step_by(C) {
+        let mut acc = [0.0; C];
         for r in e {
-            let r: &[f64; CHUNK] = r[c..c + CHUNK].try_into().expect("CHUNK divides LANES");
+            let r: &[f64; C] = r[c..c + C].try_into().expect("C divides LANES");
             for (o, v) in acc.iter_mut().zip(r) {
                 *o += v * v;
             }
         }
-        out[c..c + CHUNK].copy_from_slice(&acc);
+        out[c..c + C].copy_from_slice(&acc);
     }
 }
 
@@ -276,20 +282,26 @@ pub(crate) fn squared_norm(e: &[Row], out: &mut Row) {
 /// pass over the whole row per entry).
 #[inline(always)]
 pub fn quadratic(w: &Mat, e: &[Row], out: &mut Row) {
-    for c in (0..LANES).step_by(CHUNK) {
-        let mut acc = [0.0; CHUNK];
+    quadratic_in::<CHUNK>(w, e, out)
+}
+
+/// [`quadratic`] with `C` lanes per pass ([`gemm_in`]).
+#[inline(always)]
+pub(crate) fn quadratic_in<const C: usize>(w: &Mat, e: &[Row], out: &mut Row) {
+    for c in (0..LANES).step_by(C) {
+        let mut acc = [0.0; C];
         for (j, ej) in e.iter().enumerate() {
-            let ej: &[f64; CHUNK] = ej[c..c + CHUNK].try_into().expect("CHUNK divides LANES");
+            let ej: &[f64; C] = ej[c..c + C].try_into().expect("C divides LANES");
             for (i, ei) in e.iter().enumerate() {
                 let a = w[(i, j)];
                 if a != 0.0 {
-                    let ei: &[f64; CHUNK] = ei[c..c + CHUNK].try_into().expect("CHUNK divides LANES");
+                    let ei: &[f64; C] = ei[c..c + C].try_into().expect("C divides LANES");
                     for ((o, x), y) in acc.iter_mut().zip(ei).zip(ej) {
                         *o += x * a * y;
                     }
                 }
             }
         }
-        out[c..c + CHUNK].copy_from_slice(&acc);
+        out[c..c + C].copy_from_slice(&acc);
     }
 }

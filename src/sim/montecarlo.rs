@@ -42,6 +42,8 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
     let mut q = [0.0; LANES];
     let (mut nu, mut tmp) = (lanes::zeros(plant.ny()), lanes::zeros(plant.ny()));
     let per_filter = &mut st.filters;
+    // The statistics' kernels with the simulation's lanes per pass (the same bits either way).
+    let wide = lanes::build() == lanes::Build::Avx512;
     // Inlined into the build `simulate` picked, so the statistics run with the same vector width as
     // the simulation (the same bits: no kernel's order depends on the width).
     simulate(
@@ -52,16 +54,24 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
         #[inline(always)]
         |v| {
             let (k, f, e) = (v.k, v.f, v.e);
-            lanes::squared_norm(e, &mut e2);
+            if wide {
+                lanes::squared_norm_in::<{ lanes::WIDE_CHUNK }>(e, &mut e2);
+            } else {
+                lanes::squared_norm(e, &mut e2);
+            }
             let acc = &mut per_filter[f];
             acc.steps.set(k, Welford::of(&e2[..active]));
             if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
-                lanes::quadratic(w, e, &mut q);
+                quadratic(wide, w, e, &mut q);
                 acc.nees.set(k, Welford::of(&q[..active]));
             }
             if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
-                innovation(sc, &v, &mut nu, &mut tmp);
-                lanes::quadratic(w, &nu, &mut q);
+                if wide {
+                    innovation::<{ lanes::WIDE_CHUNK }>(sc, &v, &mut nu, &mut tmp);
+                } else {
+                    innovation::<{ lanes::CHUNK }>(sc, &v, &mut nu, &mut tmp);
+                }
+                quadratic(wide, w, &nu, &mut q);
                 acc.nis.set(k, Welford::of(&q[..active]));
             }
             if plant.counts(k) {
@@ -93,15 +103,21 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
 /// ν = y − C s, the innovation of a filter whose state estimates x ([`crate::analysis::nees`]), into
 /// `nu`; in error coordinates ε = s − x it is D w − C ε, which needs no x.
 #[inline(always)]
-fn innovation(sc: &Scenario, v: &StepView, nu: &mut [Row], tmp: &mut [Row]) {
+fn innovation<const C: usize>(sc: &Scenario, v: &StepView, nu: &mut [Row], tmp: &mut [Row]) {
     let (c, d) = (sc.ops.c(v.k, 0), sc.ops.d(v.k, 0));
     if v.error_coordinates {
-        lanes::apply(d, v.w, false, nu);
+        lanes::apply_in::<C>(d, v.w, false, nu);
     } else {
         nu.copy_from_slice(v.y);
     }
-    lanes::apply(c, v.s, false, tmp);
+    lanes::apply_in::<C>(c, v.s, false, tmp);
     lanes::subtract(tmp, nu);
+}
+
+/// eᵀ W e per lane with the lanes per pass of the build ([`lanes::quadratic`]).
+#[inline(always)]
+fn quadratic(wide: bool, w: &Mat, e: &[Row], out: &mut Row) {
+    if wide { lanes::quadratic_in::<{ lanes::WIDE_CHUNK }>(w, e, out) } else { lanes::quadratic(w, e, out) }
 }
 
 /// Blocks run in parallel per wave; a wave's results are merged before the next starts, so memory

@@ -230,19 +230,99 @@ pub trait XgemmScalar: Sized {
     );
 }
 
+// filterbench patch: ?gemm, ?syrk and ?syr2k through faer's matmul instead of BLAS. The PSD cones
+// multiply matrices of a few rows (their blocks' sides), where OpenBLAS spends most of its time
+// outside the product: every call takes a buffer from its allocator under a process-wide mutex,
+// and two threads designing at once then wait on each other in the kernel. faer multiplies small
+// matrices with its own kernels and no allocation; a transposed operand is a transposed view of
+// the same column-major storage (FILTERBENCH.md, change 3).
+mod faer_blas {
+    use faer_dense::linalg::matmul::{self, triangular::BlockStructure};
+    use faer_dense::traits::ComplexField;
+    use faer_dense::{Accum, MatMut, MatRef, Par};
+
+    /// op(X), `rows` × `cols`, from X stored column by column with leading dimension `ld` (X
+    /// itself is `cols` × `rows` when `trans` is not `N`).
+    fn op<T>(x: &[T], trans: u8, rows: usize, cols: usize, ld: i32) -> MatRef<'_, T> {
+        if trans == b'N' {
+            MatRef::from_column_major_slice_with_stride(x, rows, cols, ld as usize)
+        } else {
+            MatRef::from_column_major_slice_with_stride(x, cols, rows, ld as usize).transpose()
+        }
+    }
+
+    /// C (`m` × `n`, leading dimension `ldc`) scaled by β where `uplo` says (`U`, `L`, or
+    /// anything else for all of it), and how the product is then accumulated: BLAS reads C only
+    /// when β ≠ 0.
+    fn scaled<T: ComplexField + Copy + PartialEq + core::ops::MulAssign>(
+        c: &mut [T], m: usize, n: usize, ldc: i32, beta: T, uplo: u8,
+    ) -> (MatMut<'_, T>, Accum) {
+        let accum = if beta == T::zero_impl() {
+            Accum::Replace
+        } else {
+            if beta != T::one_impl() {
+                let ldc = ldc as usize;
+                for j in 0..n {
+                    let rows = match uplo {
+                        b'U' => 0..(j + 1).min(m),
+                        b'L' => j.min(m)..m,
+                        _ => 0..m,
+                    };
+                    for x in &mut c[j * ldc + rows.start..j * ldc + rows.end] {
+                        *x *= beta;
+                    }
+                }
+            }
+            Accum::Add
+        };
+        (MatMut::from_column_major_slice_with_stride_mut(c, m, n, ldc as usize), accum)
+    }
+
+    fn triangle(uplo: u8) -> BlockStructure {
+        if uplo == b'U' { BlockStructure::TriangularUpper } else { BlockStructure::TriangularLower }
+    }
+
+    /// C = α op(A) op(B) + β C.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn gemm<T: ComplexField + Copy + PartialEq + core::ops::MulAssign>(
+        transa: u8, transb: u8, m: i32, n: i32, k: i32, alpha: T, a: &[T], lda: i32, b: &[T],
+        ldb: i32, beta: T, c: &mut [T], ldc: i32,
+    ) {
+        let (m, n, k) = (m as usize, n as usize, k as usize);
+        let (lhs, rhs) = (op(a, transa, m, k, lda), op(b, transb, k, n, ldb));
+        let (dst, accum) = scaled(c, m, n, ldc, beta, b'A');
+        matmul::matmul(dst, accum, lhs, rhs, alpha, Par::Seq);
+    }
+
+    /// The `uplo` triangle of C = α op(A) op(A)ᵀ + β C (op(A) is n × k), and with `b`, of
+    /// C = α (op(A) op(B)ᵀ + op(B) op(A)ᵀ) + β C; the other triangle is not touched.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn syr2k<T: ComplexField + Copy + PartialEq + core::ops::MulAssign>(
+        uplo: u8, trans: u8, n: i32, k: i32, alpha: T, a: &[T], lda: i32, b: Option<(&[T], i32)>,
+        beta: T, c: &mut [T], ldc: i32,
+    ) {
+        let (n, k) = (n as usize, k as usize);
+        let a = op(a, trans, n, k, lda);
+        let (mut dst, accum) = scaled(c, n, n, ldc, beta, uplo);
+        let rect = BlockStructure::Rectangular;
+        let Some((b, ldb)) = b else {
+            matmul::triangular::matmul(dst, triangle(uplo), accum, a, rect, a.transpose(), rect, alpha, Par::Seq);
+            return;
+        };
+        let b = op(b, trans, n, k, ldb);
+        matmul::triangular::matmul(dst.as_mut(), triangle(uplo), accum, a, rect, b.transpose(), rect, alpha, Par::Seq);
+        matmul::triangular::matmul(dst, triangle(uplo), Accum::Add, b, rect, a.transpose(), rect, alpha, Par::Seq);
+    }
+}
+
 macro_rules! impl_blas_gemm {
-    ($T:ty, $XGEMM:path) => {
+    ($T:ty) => {
         impl XgemmScalar for $T {
             fn xgemm(
                 transa: u8, transb: u8, m: i32, n: i32, k: i32, alpha: Self, a: &[Self], 
                 lda: i32, b: &[Self], ldb: i32, beta: Self, c: &mut [Self], ldc: i32
             ) {
-                unsafe{
-                    $XGEMM(
-                        transa, transb, m, n, k, alpha, a, 
-                        lda, b, ldb, beta, c, ldc
-                    );
-                }
+                faer_blas::gemm(transa, transb, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc);
             }
         }
     };
@@ -251,10 +331,10 @@ macro_rules! impl_blas_gemm {
 cfg_if::cfg_if! {
   if #[cfg(not(feature="sdp-r"))] {
       // R blas/lapack only provides double precision routines
-      impl_blas_gemm!(f32, sgemm);
+      impl_blas_gemm!(f32);
   }
 }
-impl_blas_gemm!(f64, dgemm);
+impl_blas_gemm!(f64);
 
 // --------------------------------------
 // ?gemv : matrix vector multiply (general shape)
@@ -344,18 +424,15 @@ pub trait XsyrkScalar: Sized {
 }
 
 
+// filterbench patch: through faer (see ?gemm above).
 macro_rules! impl_blas_gsyrk {
-    ($T:ty, $XSYRK:path) => {
+    ($T:ty) => {
         impl XsyrkScalar for $T {
             fn xsyrk(
                 uplo: u8, trans: u8, n: i32, k: i32, alpha: Self, 
                 a: &[Self], lda: i32, beta: Self, c: &mut [Self], ldc: i32
             ) {
-                unsafe{
-                    $XSYRK(
-                        uplo, trans, n, k, alpha, a, lda, beta, c, ldc
-                    );
-                }
+                faer_blas::syr2k(uplo, trans, n, k, alpha, a, lda, None, beta, c, ldc);
             }
         }
     };
@@ -364,10 +441,10 @@ macro_rules! impl_blas_gsyrk {
 cfg_if::cfg_if! {
   if #[cfg(not(feature="sdp-r"))] {
       // R blas/lapack only provides double precision routines
-      impl_blas_gsyrk!(f32, ssyrk);
+      impl_blas_gsyrk!(f32);
   }
 }
-impl_blas_gsyrk!(f64, dsyrk);
+impl_blas_gsyrk!(f64);
 
 // --------------------------------------
 // ?syrk : symmetric rank 2k update
@@ -381,19 +458,15 @@ pub trait Xsyr2kScalar: Sized {
 }
 
 
+// filterbench patch: through faer (see ?gemm above).
 macro_rules! impl_blas_gsyr2k {
-    ($T:ty, $XSYR2K:path) => {
+    ($T:ty) => {
         impl Xsyr2kScalar for $T {
             fn xsyr2k(
                 uplo: u8, trans: u8, n: i32, k: i32, alpha: Self, a: &[Self], lda: i32, 
                 b: &[Self], ldb: i32, beta: Self, c: &mut [Self], ldc: i32
             ) {
-                unsafe{
-                    $XSYR2K(
-                        uplo, trans, n, k, alpha, a, lda, 
-                        b, ldb, beta, c, ldc
-                    );
-                }
+                faer_blas::syr2k(uplo, trans, n, k, alpha, a, lda, Some((b, ldb)), beta, c, ldc);
             }
         }
     };
@@ -402,10 +475,10 @@ macro_rules! impl_blas_gsyr2k {
 cfg_if::cfg_if! {
   if #[cfg(not(feature="sdp-r"))] {
       // R blas/lapack only provides double precision routines
-      impl_blas_gsyr2k!(f32, ssyr2k);
+      impl_blas_gsyr2k!(f32);
   }
 }
-impl_blas_gsyr2k!(f64, dsyr2k);
+impl_blas_gsyr2k!(f64);
 
 
 // --------------------------------------
