@@ -8,6 +8,8 @@ use crate::algebra::*;
 pub struct PSDConeData<T> {
     chol1: CholeskyEngine<T>,
     chol2: CholeskyEngine<T>,
+    // filterbench patch (4): the step length's test of I + αΔ ≻ 0
+    cholΔ: CholeskyEngine<T>,
     SVD: SVDEngine<T>,
     Eig: EigEngine<T>,
     λ: Vec<T>,
@@ -33,6 +35,7 @@ where
         Self {
             chol1: CholeskyEngine::<T>::new(n),
             chol2: CholeskyEngine::<T>::new(n),
+            cholΔ: CholeskyEngine::<T>::new(n),
             SVD: SVDEngine::<T>::new((n, n)),
             Eig: EigEngine::<T>::new(n),
 
@@ -257,8 +260,8 @@ where
             &mut self.data.workmat2,
             &mut self.data.workmat3,
         );
-        let workΔ = &mut self.data.workmat1;
-        let αz = step_length_psd_component(workΔ, engine, d, Λisqrt, αmax);
+        let (workΔ, shifted, chol) = (&mut self.data.workmat1, &mut self.data.workmat2, &mut self.data.cholΔ);
+        let αz = step_length_psd_component(workΔ, shifted, chol, engine, d, Λisqrt, αmax);
 
         // d = Δs̃ = W^{-T}Δs
         mul_Wx_inner(
@@ -272,8 +275,8 @@ where
             &mut self.data.workmat2,
             &mut self.data.workmat3,
         );
-        let workΔ = &mut self.data.workmat1;
-        let αs = step_length_psd_component(workΔ, engine, d, Λisqrt, αmax);
+        let (workΔ, shifted, chol) = (&mut self.data.workmat1, &mut self.data.workmat2, &mut self.data.cholΔ);
+        let αs = step_length_psd_component(workΔ, shifted, chol, engine, d, Λisqrt, αmax);
 
         (αz, αs)
     }
@@ -434,8 +437,11 @@ where
 // internal operations for SDP cones
 // ----------------------------------------
 
+// filterbench patch (4): `shifted` and `chol` are scratch for the test below.
 fn step_length_psd_component<T>(
     workΔ: &mut Matrix<T>,
+    shifted: &mut Matrix<T>,
+    chol: &mut CholeskyEngine<T>,
     engine: &mut EigEngine<T>,
     d: &[T],
     Λisqrt: &[T],
@@ -450,6 +456,29 @@ where
         } else {
             svec_to_mat(workΔ, d);
             workΔ.lrscale(Λisqrt, Λisqrt);
+            // filterbench patch (4): the answer below is αmax unless λmin(Δ) ≤ −1/αmax, that is
+            // unless I + αmax·Δ is not positive definite. Most cones do not limit the step, and
+            // for them a Cholesky factorization (n³/3 flops) replaces the eigenvalues (about 9n³
+            // and a LAPACK workspace query). The test asks for a margin τ = 8(n+1)ε(1 + αmax‖Δ‖_F),
+            // λmin(I + αmax·Δ) > τ, larger than the errors of both routes (a Cholesky factorization
+            // that succeeds, and LAPACK's eigenvalues, are each within a small multiple of nε‖·‖
+            // of exact): a cone that passes it is one the eigenvalues below would also find not
+            // limiting, so the step is the same bits; any other takes the eigenvalues as before.
+            if αmax.is_finite() {
+                let n = workΔ.nrows();
+                let norm = workΔ.data().iter().fold(T::zero(), |acc, &x| acc + x * x).sqrt();
+                let margin: T = (8 * (n + 1)).as_T();
+                let τ = margin * T::epsilon() * (T::one() + αmax * norm);
+                for j in 0..n {
+                    for i in 0..n {
+                        shifted[(i, j)] = αmax * workΔ[(i, j)];
+                    }
+                    shifted[(j, j)] += T::one() - τ;
+                }
+                if chol.factor(shifted).is_ok() {
+                    return αmax;
+                }
+            }
             engine.eigvals(workΔ).expect("Eigval error");
             engine.λ.minimum()
         }
