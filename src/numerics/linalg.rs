@@ -140,6 +140,20 @@ pub(crate) fn weighted_sum<X: std::borrow::Borrow<Mat>>(
     terms.into_iter().fold(Mat::zeros(r, c), |acc, (w, x)| acc + w * x.borrow())
 }
 
+/// Writes into m the symmetric n×n matrix of v in clarabel's PSD triangle form: the upper triangle
+/// by columns, off-diagonal entries scaled by √2 so that ⟨svec A, svec B⟩ = ⟨A, B⟩.
+pub fn unpack_triangle(v: &[f64], n: usize, m: &mut Mat) {
+    let mut t = 0;
+    for j in 0..n {
+        for i in 0..=j {
+            let x = if i == j { v[t] } else { v[t] / std::f64::consts::SQRT_2 };
+            m[(i, j)] = x;
+            m[(j, i)] = x;
+            t += 1;
+        }
+    }
+}
+
 /// Block-diagonal matrix of the given square blocks.
 pub fn block_diag(blocks: &[&Mat]) -> Mat {
     let n: usize = blocks.iter().map(|b| b.nrows()).sum();

@@ -39,7 +39,7 @@ use crate::filter::realization::Realization;
 use crate::model::plant::Plant;
 use crate::numerics::accuracy;
 use crate::numerics::linalg::Mat;
-use crate::numerics::solve::conic::{Failure, Tuning};
+use crate::numerics::solve::conic::{Failure, Solver, Tuning};
 
 pub mod structure;
 
@@ -61,6 +61,10 @@ pub struct Params {
     /// Which filter of §4.2 ([`Structure`]); `predictor` (§4.2.3, §4.2.1 with dropouts) by default.
     #[serde(default = "default_structure")]
     structure: Structure,
+    /// The SDP's solver: `clarabel` (the default, every shipped design) or `own`, the project's
+    /// interior-point method (`numerics::solve::interior`), clarabel's attempts after it if it fails.
+    #[serde(default)]
+    solver: Solver,
 }
 
 impl Params {
@@ -109,7 +113,7 @@ impl super::family::Family for Anisotropic {
     fn design(input: &DesignInput, p: &Params) -> Result<Design> {
         let level = p.level().map_err(|why| Error::invalid(input.key("anisotropy"), why))?;
         check_setting(input, p.structure)?;
-        let checked = synthesize_checked(input.plant, p.structure, level).map_err(|e| Error::design(input.name, e))?;
+        let checked = synthesize_checked_with(input.plant, p.structure, level, p.solver).map_err(|e| Error::design(input.name, e))?;
         let syn = &checked.synthesis;
         let realization = realization(input.plant, syn);
         let mut diagnostics = serde_json::Map::new();
@@ -119,6 +123,7 @@ impl super::family::Family for Anisotropic {
         diagnostics.insert("theorem1_q".into(), checked.theorem1.q.into());
         diagnostics.insert("theorem1_seconds".into(), checked.theorem1.seconds.into());
         diagnostics.insert("clarabel_attempts".into(), checked.attempt.into());
+        diagnostics.insert("sdp_solver".into(), checked.solver.name().into());
         diagnostics.insert("gamma_sq".into(), syn.gamma_sq.into());
         diagnostics.insert("gamma_sq_objective_error".into(), syn.objective_error.into());
         diagnostics.insert("theorem1_error".into(), checked.theorem1.error.into());
@@ -208,6 +213,8 @@ pub struct Checked {
     /// it (an interior-point value can sit under the optimum it approximates).
     pub certified_sq: f64,
     pub attempt: usize,
+    /// The method whose design passed.
+    pub solver: Solver,
 }
 
 /// Designs `structure` at `level` and checks the design three ways: its exact a-anisotropic norm
@@ -218,9 +225,25 @@ pub struct Checked {
 /// after a numerical failure or a design that fails a check, retries with [`Tuning::robust`], then
 /// both settings in balanced state coordinates (`synthesize_balanced`).
 pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> std::result::Result<Checked, String> {
+    synthesize_checked_with(plant, structure, level, Solver::Clarabel)
+}
+
+/// [`synthesize_checked`] with the solver of the filter's `solver` key: [`Solver::Own`] is tried
+/// first and checked the same three ways, then clarabel's attempts follow if it fails (the own
+/// method has no infeasibility certificate, so its failure is never reported as infeasibility).
+pub fn synthesize_checked_with(
+    plant: &Plant,
+    structure: Structure,
+    level: Level,
+    solver: Solver,
+) -> std::result::Result<Checked, String> {
     let mut last = String::new();
-    let attempts =
+    let clarabel =
         [(Tuning::default(), false), (Tuning::robust(), false), (Tuning::default(), true), (Tuning::robust(), true)];
+    let attempts: Vec<(Tuning, bool)> = match solver {
+        Solver::Clarabel => clarabel.to_vec(),
+        Solver::Own => std::iter::once((Tuning::own(), false)).chain(clarabel).collect(),
+    };
     let describe = match level {
         Level::Anisotropy(a) => format!("a-anisotropic (a = {a})"),
         Level::Hinf => "H∞".to_string(),
@@ -241,11 +264,16 @@ pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> 
         };
         let real = realization(plant, &syn);
         let (norm_sq, norm_error) = exact_norm_sq_with_error(plant, &real, level).map_err(|e| e.to_string())?;
-        let solver = if syn.almost { "AlmostSolved" } else { "Solved" };
+        let solver = match (tuning.solver, syn.almost) {
+            (Solver::Clarabel, true) => "clarabel AlmostSolved",
+            (Solver::Clarabel, false) => "clarabel Solved",
+            (Solver::Own, true) => "own method, stalled near its tolerance",
+            (Solver::Own, false) => "own method, solved",
+        };
         if !accuracy::ordered(norm_sq, syn.gamma_sq, norm_error + syn.objective_error) {
             last = format!(
                 "the SDP returned a design whose exact {describe} norm {:.9e} exceeds its bound γ = {:.9e} by {:.1e} \
-                 relative (clarabel {solver}): a numerical failure, not infeasibility; rescale the plant's matrices \
+                 relative ({solver}): a numerical failure, not infeasibility; rescale the plant's matrices \
                  towards unit size or change the horizon",
                 norm_sq.sqrt(),
                 syn.gamma_sq.sqrt(),
@@ -269,11 +297,19 @@ pub fn synthesize_checked(plant: &Plant, structure: Structure, level: Level) -> 
             && accuracy::ordered(t1.gamma_sq, syn.gamma_sq, t1.error + syn.objective_error)
         {
             let certified_sq = syn.gamma_sq.max(t1.certified());
-            return Ok(Checked { synthesis: syn, norm_sq, norm_error, theorem1: t1, certified_sq, attempt: attempt + 1 });
+            return Ok(Checked {
+                synthesis: syn,
+                norm_sq,
+                norm_error,
+                theorem1: t1,
+                certified_sq,
+                attempt: attempt + 1,
+                solver: tuning.solver,
+            });
         }
         last = format!(
             "the three routes to the design's {describe} norm disagree: exact {:.9e}, Theorem 1 with the filter fixed \
-             {:.9e}, the synthesis's γ {:.9e} (clarabel {solver}); they must be ordered exact ≤ Theorem 1 ≤ γ: a \
+             {:.9e}, the synthesis's γ {:.9e} ({solver}); they must be ordered exact ≤ Theorem 1 ≤ γ: a \
              numerical failure; rescale the plant's matrices towards unit size or change the horizon",
             norm_sq.sqrt(),
             t1.gamma_sq.sqrt(),

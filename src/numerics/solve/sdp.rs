@@ -3,7 +3,7 @@
 //! intersected with {S ⪰ 0}). Variables are the upper-triangle entries s_ij (i ≤ j).
 
 use super::conic::Conic;
-use crate::numerics::linalg::{Mat, sym_unit, symmetrize};
+use crate::numerics::linalg::{Mat, sym_unit, symmetrize, unpack_triangle};
 
 /// Constraints on a symmetric n×n matrix S; every one that is `Some` applies.
 #[derive(Clone, Debug, Default)]
@@ -66,7 +66,11 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
         p.psd(&Mat::zeros(n, n), &units);
     }
     let sol = p.minimize(&cost)?;
-    let multiplier = cons.psd.then(|| svec_to_matrix(&sol.z[psd_rows..], n));
+    let multiplier = cons.psd.then(|| {
+        let mut m = Mat::zeros(n, n);
+        unpack_triangle(&sol.z[psd_rows..], n, &mut m);
+        m
+    });
     let mut s = Mat::zeros(n, n);
     for (t, &(i, j)) in idx.iter().enumerate() {
         s[(i, j)] = sol.x[t];
@@ -80,22 +84,6 @@ pub fn max_linear(g: &Mat, n: usize, cons: &SymConstraints) -> Result<LinearMax,
         iterations: sol.iterations,
         solve_seconds: sol.seconds,
     })
-}
-
-/// The symmetric n×n matrix of a vector in clarabel's PSD triangle form (upper triangle by columns,
-/// off-diagonal entries scaled by √2).
-fn svec_to_matrix(v: &[f64], n: usize) -> Mat {
-    let mut m = Mat::zeros(n, n);
-    let mut t = 0;
-    for j in 0..n {
-        for i in 0..=j {
-            let x = if i == j { v[t] } else { v[t] / std::f64::consts::SQRT_2 };
-            m[(i, j)] = x;
-            m[(j, i)] = x;
-            t += 1;
-        }
-    }
-    m
 }
 
 /// A certified upper bound on max ⟨G, S⟩ over the set `cons`, by weak duality: for every Z ⪰ 0,

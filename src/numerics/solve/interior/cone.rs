@@ -1,0 +1,487 @@
+//! The cones of [`super`]: their Nesterov–Todd scalings, Jordan products and step lengths, and the
+//! svec conventions of clarabel's PSD triangle (upper triangle, column-major, off-diagonals × √2).
+
+use crate::numerics::linalg::Mat;
+pub(super) use crate::numerics::linalg::unpack_triangle as smat;
+
+pub(super) const SQ2: f64 = std::f64::consts::SQRT_2;
+
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Kind {
+    Nonnegative,
+    SecondOrder,
+    Psd(usize),
+}
+
+/// One cone's rows, and for a PSD cone each variable's coefficient matrix as its upper-triangle
+/// entries (p ≤ q, value of the unscaled matrix).
+pub(super) struct Cone {
+    pub(super) kind: Kind,
+    pub(super) rows: std::ops::Range<usize>,
+    pub(super) coefs: Vec<(usize, Vec<(usize, usize, f64)>)>,
+}
+
+/// A cone's Nesterov–Todd scaling.
+pub(super) enum Scaling {
+    /// W = diag(d).
+    Nonnegative(Vec<f64>),
+    /// W and W⁻¹, both symmetric.
+    SecondOrder(Mat, Mat),
+    /// W: Z ↦ RᵀZR, kept as the four matrices B of the sandwiches V ↦ B V Bᵀ it needs: R (Wᵀ),
+    /// R⁻¹ (W⁻ᵀ), R⁻ᵀ (W⁻¹) and M = R⁻ᵀR⁻¹ (W⁻¹W⁻ᵀ).
+    Psd { r: Mat, rinv: Mat, rinv_t: Mat, m: Mat },
+}
+
+/// What the scaling does to a vector: W⁻ᵀ, Wᵀ, W⁻¹ and W⁻¹W⁻ᵀ (W itself is not needed).
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Op {
+    InvTranspose,
+    Transpose,
+    Inverse,
+    Normal,
+}
+
+/// Scratch for one PSD block's sandwich, sized for the largest block.
+pub(super) struct Scratch {
+    v: Vec<f64>,
+    t: Vec<f64>,
+    o: Vec<f64>,
+}
+
+impl Scratch {
+    pub(super) fn new(n: usize) -> Scratch {
+        Scratch { v: vec![0.0; n * n], t: vec![0.0; n * n], o: vec![0.0; n * n] }
+    }
+}
+
+/// [`sandwich`] for the block sizes of seed 003's programs, on arrays the compiler unrolls and
+/// vectorizes (the same arithmetic; the whole of O = T Bᵀ is formed, its upper triangle kept).
+#[inline(always)]
+fn sandwich_fixed<const N: usize>(b: &[f64], v: &[f64], out: &mut [f64]) {
+    let mut vm = [[0.0f64; N]; N];
+    let mut k = 0;
+    for j in 0..N {
+        for i in 0..=j {
+            let x = if i == j { v[k] } else { v[k] / SQ2 };
+            vm[j][i] = x;
+            vm[i][j] = x;
+            k += 1;
+        }
+    }
+    let mut t = [[0.0f64; N]; N];
+    for j in 0..N {
+        for kk in 0..N {
+            let x = vm[j][kk];
+            let col: &[f64; N] = b[kk * N..(kk + 1) * N].try_into().expect("N×N");
+            for i in 0..N {
+                t[j][i] += col[i] * x;
+            }
+        }
+    }
+    let mut k = 0;
+    for j in 0..N {
+        let mut oc = [0.0f64; N];
+        for kk in 0..N {
+            let x = b[j + kk * N];
+            for i in 0..N {
+                oc[i] += t[kk][i] * x;
+            }
+        }
+        for (i, o) in oc.iter().enumerate().take(j + 1) {
+            out[k] = if i == j { *o } else { o * SQ2 };
+            k += 1;
+        }
+    }
+}
+
+/// [`sandwich_fixed`] compiled for AVX2 (without FMA: Rust never fuses a·b + c, so every entry is
+/// the same sequence of IEEE products and sums as the baseline build's, the same bits).
+///
+/// # Safety
+/// The processor must have AVX2 ([`wide`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn sandwich_avx2<const N: usize>(b: &[f64], v: &[f64], out: &mut [f64]) {
+    sandwich_fixed::<N>(b, v, out)
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+unsafe fn sandwich_avx2<const N: usize>(b: &[f64], v: &[f64], out: &mut [f64]) {
+    sandwich_fixed::<N>(b, v, out)
+}
+
+/// Whether [`sandwich_avx2`] may run (std caches the detection).
+fn wide() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// svec(B V Bᵀ) for V = smat(v), B column-major n×n: two products of n³ and n³/2 multiply–adds
+/// on contiguous columns, without allocating (the blocks are at most 16 × 16 in seed 003's
+/// programs, where a general matrix product's packing costs more than the product).
+fn sandwich(b: &[f64], n: usize, v: &[f64], out: &mut [f64], w: &mut Scratch) {
+    let wide = wide();
+    match n {
+        2 => return if wide { unsafe { sandwich_avx2::<2>(b, v, out) } } else { sandwich_fixed::<2>(b, v, out) },
+        3 => return if wide { unsafe { sandwich_avx2::<3>(b, v, out) } } else { sandwich_fixed::<3>(b, v, out) },
+        4 => return if wide { unsafe { sandwich_avx2::<4>(b, v, out) } } else { sandwich_fixed::<4>(b, v, out) },
+        5 => return if wide { unsafe { sandwich_avx2::<5>(b, v, out) } } else { sandwich_fixed::<5>(b, v, out) },
+        6 => return if wide { unsafe { sandwich_avx2::<6>(b, v, out) } } else { sandwich_fixed::<6>(b, v, out) },
+        7 => return if wide { unsafe { sandwich_avx2::<7>(b, v, out) } } else { sandwich_fixed::<7>(b, v, out) },
+        8 => return if wide { unsafe { sandwich_avx2::<8>(b, v, out) } } else { sandwich_fixed::<8>(b, v, out) },
+        10 => return if wide { unsafe { sandwich_avx2::<10>(b, v, out) } } else { sandwich_fixed::<10>(b, v, out) },
+        12 => return if wide { unsafe { sandwich_avx2::<12>(b, v, out) } } else { sandwich_fixed::<12>(b, v, out) },
+        14 => return if wide { unsafe { sandwich_avx2::<14>(b, v, out) } } else { sandwich_fixed::<14>(b, v, out) },
+        16 => return if wide { unsafe { sandwich_avx2::<16>(b, v, out) } } else { sandwich_fixed::<16>(b, v, out) },
+        20 => return if wide { unsafe { sandwich_avx2::<20>(b, v, out) } } else { sandwich_fixed::<20>(b, v, out) },
+        24 => return if wide { unsafe { sandwich_avx2::<24>(b, v, out) } } else { sandwich_fixed::<24>(b, v, out) },
+        28 => return if wide { unsafe { sandwich_avx2::<28>(b, v, out) } } else { sandwich_fixed::<28>(b, v, out) },
+        32 => return if wide { unsafe { sandwich_avx2::<32>(b, v, out) } } else { sandwich_fixed::<32>(b, v, out) },
+        _ => {}
+    }
+    let (vm, t, o) = (&mut w.v[..n * n], &mut w.t[..n * n], &mut w.o[..n * n]);
+    let mut k = 0;
+    for j in 0..n {
+        for i in 0..=j {
+            let x = if i == j { v[k] } else { v[k] / SQ2 };
+            vm[i + j * n] = x;
+            vm[j + i * n] = x;
+            k += 1;
+        }
+    }
+    // T = B V
+    t.iter_mut().for_each(|x| *x = 0.0);
+    for j in 0..n {
+        for kk in 0..n {
+            let x = vm[kk + j * n];
+            let (tc, bc) = (&mut t[j * n..(j + 1) * n], &b[kk * n..(kk + 1) * n]);
+            tc.iter_mut().zip(bc).for_each(|(t, b)| *t += b * x);
+        }
+    }
+    // O = T Bᵀ, upper triangle only.
+    for j in 0..n {
+        let oc = &mut o[j * n..j * n + j + 1];
+        oc.iter_mut().for_each(|x| *x = 0.0);
+        for kk in 0..n {
+            let x = b[j + kk * n];
+            oc.iter_mut().zip(&t[kk * n..kk * n + j + 1]).for_each(|(o, t)| *o += t * x);
+        }
+    }
+    let mut k = 0;
+    for j in 0..n {
+        for i in 0..=j {
+            out[k] = if i == j { o[i + j * n] } else { o[i + j * n] * SQ2 };
+            k += 1;
+        }
+    }
+}
+
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+pub(super) fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The identity e of the cone's Jordan algebra.
+pub(super) fn identity(kind: Kind, out: &mut [f64]) {
+    out.iter_mut().for_each(|v| *v = 0.0);
+    match kind {
+        Kind::Nonnegative => out.iter_mut().for_each(|v| *v = 1.0),
+        Kind::SecondOrder => out[0] = 1.0,
+        Kind::Psd(n) => {
+            let mut k = 0;
+            for j in 0..n {
+                out[k + j] = 1.0;
+                k += j + 1;
+            }
+        }
+    }
+}
+
+/// The largest α ≤ cap with x + α d in the cone, x in its interior. In scaled coordinates x = λ,
+/// diagonal for a PSD cone.
+pub(super) fn max_step(kind: Kind, x: &[f64], d: &[f64], cap: f64, w: &mut Scratch) -> f64 {
+    match kind {
+        Kind::Nonnegative => x.iter().zip(d).filter(|(_, d)| **d < 0.0).fold(cap, |a, (x, d)| a.min(-x / d)),
+        Kind::SecondOrder => {
+            let qa = d[0] * d[0] - dot(&d[1..], &d[1..]);
+            let qb = 2.0 * (x[0] * d[0] - dot(&x[1..], &d[1..]));
+            let qc = x[0] * x[0] - dot(&x[1..], &x[1..]);
+            let mut a = cap;
+            if d[0] < 0.0 {
+                a = a.min(-x[0] / d[0]);
+            }
+            let disc = qb * qb - 4.0 * qa * qc;
+            if qa < 0.0 || (disc >= 0.0 && qb < 0.0) {
+                let t = (-qb - disc.max(0.0).sqrt()) / (2.0 * qa);
+                if t > 0.0 {
+                    a = a.min(t);
+                }
+            } else if qa == 0.0 && qb < 0.0 {
+                a = a.min(-qc / qb);
+            }
+            a
+        }
+        Kind::Psd(n) => {
+            // Λ + αD ⪰ 0 ⇔ I + α Λ^{-1/2} D Λ^{-1/2} ⪰ 0.
+            let (isq, a) = (&mut w.o[..n], &mut w.v[..n * n]);
+            let mut k = 0;
+            for (j, v) in isq.iter_mut().enumerate() {
+                *v = 1.0 / x[k + j].sqrt();
+                k += j + 1;
+            }
+            // Cheap first: if I + cap·T factors with a margin the cone does not limit the step.
+            let isq = &*isq;
+            if factors(n, |i, j, v| f64::from(u8::from(i == j)) * (1.0 - 1e-12) + cap * v * isq[i] * isq[j], d, a) {
+                return cap;
+            }
+            let mut t = Mat::zeros(n, n);
+            smat(d, n, &mut t);
+            let mut k = 0;
+            let isq: Vec<f64> = (0..n)
+                .map(|j| {
+                    let v = 1.0 / x[k + j].sqrt();
+                    k += j + 1;
+                    v
+                })
+                .collect();
+            for j in 0..n {
+                for i in 0..n {
+                    t[(i, j)] *= isq[i] * isq[j];
+                }
+            }
+            let lmin = t.symmetric_eigenvalues().min();
+            if lmin < 0.0 { cap.min(-1.0 / lmin) } else { cap }
+        }
+    }
+}
+
+/// Whether the symmetric matrix with upper-triangle entries entry(i, j, v), v the triangle's
+/// unscaled value of d, has a Cholesky factor (is positive definite), in the scratch a.
+fn factors(n: usize, entry: impl Fn(usize, usize, f64) -> f64, d: &[f64], a: &mut [f64]) -> bool {
+    let mut k = 0;
+    for j in 0..n {
+        for i in 0..=j {
+            let v = if i == j { d[k] } else { d[k] / SQ2 };
+            a[i + j * n] = entry(i, j, v);
+            k += 1;
+        }
+    }
+    // Upper Cholesky A = RᵀR by columns: R_ij = (A_ij − Σ_{k<i} R_ki R_kj)/R_ii.
+    for j in 0..n {
+        for i in 0..=j {
+            let mut v = a[i + j * n];
+            for k in 0..i {
+                v -= a[k + i * n] * a[k + j * n];
+            }
+            if i == j {
+                if v <= 0.0 || !v.is_finite() {
+                    return false;
+                }
+                a[j + j * n] = v.sqrt();
+            } else {
+                a[i + j * n] = v / a[i + i * n];
+            }
+        }
+    }
+    true
+}
+
+/// The Jordan product u∘v.
+pub(super) fn jprod(kind: Kind, u: &[f64], v: &[f64], out: &mut [f64], w: &mut Scratch) {
+    match kind {
+        Kind::Nonnegative => out.iter_mut().zip(u.iter().zip(v)).for_each(|(o, (a, b))| *o = a * b),
+        Kind::SecondOrder => {
+            out[0] = dot(u, v);
+            for i in 1..u.len() {
+                out[i] = u[0] * v[i] + v[0] * u[i];
+            }
+        }
+        Kind::Psd(n) => {
+            // (UV + VU)/2 on the upper triangle, U and V unpacked into the scratch.
+            let (um, vm) = (&mut w.v[..n * n], &mut w.t[..n * n]);
+            let mut k = 0;
+            for j in 0..n {
+                for i in 0..=j {
+                    let s = if i == j { 1.0 } else { 1.0 / SQ2 };
+                    (um[i + j * n], vm[i + j * n]) = (u[k] * s, v[k] * s);
+                    (um[j + i * n], vm[j + i * n]) = (u[k] * s, v[k] * s);
+                    k += 1;
+                }
+            }
+            let mut k = 0;
+            for j in 0..n {
+                for i in 0..=j {
+                    let (ui, uj) = (&um[i * n..(i + 1) * n], &um[j * n..(j + 1) * n]);
+                    let (vi, vj) = (&vm[i * n..(i + 1) * n], &vm[j * n..(j + 1) * n]);
+                    let x = 0.5 * (dot(ui, vj) + dot(vi, uj));
+                    out[k] = if i == j { x } else { x * SQ2 };
+                    k += 1;
+                }
+            }
+        }
+    }
+}
+
+/// The u with λ∘u = r (λ diagonal for a PSD cone, so u_ij = 2 r_ij/(λ_i + λ_j)).
+pub(super) fn jdiv(kind: Kind, lam: &[f64], r: &[f64], out: &mut [f64]) {
+    match kind {
+        Kind::Nonnegative => out.iter_mut().zip(r.iter().zip(lam)).for_each(|(o, (r, l))| *o = r / l),
+        Kind::SecondOrder => {
+            let l0 = lam[0];
+            let det = l0 * l0 - dot(&lam[1..], &lam[1..]);
+            let u0 = (l0 * r[0] - dot(&lam[1..], &r[1..])) / det;
+            out[0] = u0;
+            for i in 1..r.len() {
+                out[i] = (r[i] - u0 * lam[i]) / l0;
+            }
+        }
+        Kind::Psd(n) => {
+            let mut diag = vec![0.0; n];
+            let mut k = 0;
+            for (j, d) in diag.iter_mut().enumerate() {
+                *d = lam[k + j];
+                k += j + 1;
+            }
+            let mut k = 0;
+            for j in 0..n {
+                for i in 0..=j {
+                    out[k] = 2.0 * r[k] / (diag[i] + diag[j]);
+                    k += 1;
+                }
+            }
+        }
+    }
+}
+
+pub(super) fn apply(sc: &Scaling, op: Op, v: &[f64], out: &mut [f64], w: &mut Scratch) {
+    match sc {
+        Scaling::Nonnegative(d) => {
+            for i in 0..v.len() {
+                out[i] = match op {
+                    Op::Transpose => d[i] * v[i],
+                    Op::Normal => v[i] / (d[i] * d[i]),
+                    _ => v[i] / d[i],
+                };
+            }
+        }
+        Scaling::SecondOrder(wm, winv) => {
+            let m = if op == Op::Transpose { wm } else { winv };
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = (0..v.len()).map(|j| m[(i, j)] * v[j]).sum();
+            }
+            if op == Op::Normal {
+                let first = &mut w.v[..v.len()];
+                first.copy_from_slice(out);
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = (0..v.len()).map(|j| m[(i, j)] * first[j]).sum();
+                }
+            }
+        }
+        Scaling::Psd { r, rinv, rinv_t, m } => {
+            let b = match op {
+                Op::InvTranspose => rinv,
+                Op::Transpose => r,
+                Op::Inverse => rinv_t,
+                Op::Normal => m,
+            };
+            sandwich(b.as_slice(), b.nrows(), v, out, w);
+        }
+    }
+}
+
+/// The Nesterov–Todd scaling of one cone at (s, z), and λ = W z; None if s or z has left the
+/// cone's interior numerically.
+pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Option<Scaling> {
+    match kind {
+        Kind::Nonnegative => {
+            if s.iter().chain(z).any(|v| *v <= 0.0) {
+                return None;
+            }
+            for i in 0..s.len() {
+                lam[i] = (s[i] * z[i]).sqrt();
+            }
+            Some(Scaling::Nonnegative(s.iter().zip(z).map(|(s, z)| (s / z).sqrt()).collect()))
+        }
+        Kind::SecondOrder => {
+            let n = s.len();
+            let jn = |x: &[f64]| x[0] * x[0] - dot(&x[1..], &x[1..]);
+            let (sn, zn) = (jn(s), jn(z));
+            if sn <= 0.0 || zn <= 0.0 || s[0] <= 0.0 || z[0] <= 0.0 {
+                return None;
+            }
+            let (sn, zn) = (sn.sqrt(), zn.sqrt());
+            let g = ((1.0 + dot(s, z) / (sn * zn)) / 2.0).sqrt();
+            // w̄ = (s̄ + J z̄)/(2γ); W = β [w̄0, w̄1ᵀ; w̄1, I + w̄1 w̄1ᵀ/(1 + w̄0)], W⁻¹ = J W J / β².
+            let wb: Vec<f64> = (0..n)
+                .map(|i| if i == 0 { s[0] / sn + z[0] / zn } else { s[i] / sn - z[i] / zn } / (2.0 * g))
+                .collect();
+            let beta = (sn / zn).sqrt();
+            let mut w = Mat::zeros(n, n);
+            let mut winv = Mat::zeros(n, n);
+            for i in 0..n {
+                for j in 0..n {
+                    let v = if i == 0 || j == 0 {
+                        wb[i.max(j)]
+                    } else {
+                        f64::from(u8::from(i == j)) + wb[i] * wb[j] / (1.0 + wb[0])
+                    };
+                    let sign = if (i == 0) != (j == 0) { -1.0 } else { 1.0 };
+                    w[(i, j)] = beta * v;
+                    winv[(i, j)] = sign * v / beta;
+                }
+            }
+            for (i, l) in lam.iter_mut().enumerate() {
+                *l = (0..n).map(|j| w[(i, j)] * z[j]).sum();
+            }
+            Some(Scaling::SecondOrder(w, winv))
+        }
+        Kind::Psd(n) => {
+            // L_s, L_z Cholesky factors, L_zᵀ L_s = U Σ Vᵀ: R = L_s V Σ^{-1/2}, R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ.
+            let (mut sm, mut zm) = (Mat::zeros(n, n), Mat::zeros(n, n));
+            smat(s, n, &mut sm);
+            smat(z, n, &mut zm);
+            let ls = sm.cholesky()?.l();
+            let lz = zm.cholesky()?.l();
+            // G = L_zᵀ L_s = U Σ Vᵀ. Its singular vectors from the symmetric eigenproblem GᵀG = V Σ² Vᵀ
+            // (about half an SVD's work), U = G V Σ⁻¹; that squares G's condition number, so where
+            // σ_max/σ_min > 10⁴ (a relative error above 10⁻⁸ in σ_min²) the SVD itself is taken.
+            let g = lz.transpose() * &ls;
+            let eig = (g.transpose() * &g).symmetric_eigen();
+            let sig = eig.eigenvalues.map(|e| e.max(0.0).sqrt());
+            let (smin, smax) = (sig.min(), sig.max());
+            let (r, rinv, sig) = if smin > 0.0 && smax < 1e4 * smin {
+                let v = eig.eigenvectors;
+                let isq = Mat::from_diagonal(&sig.map(|v| 1.0 / v.sqrt()));
+                // R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ = Σ^{-3/2} Vᵀ Gᵀ L_zᵀ.
+                let is3 = Mat::from_diagonal(&sig.map(|v| 1.0 / (v * v.sqrt())));
+                (&ls * &v * &isq, &is3 * v.transpose() * g.transpose() * lz.transpose(), sig)
+            } else {
+                let svd = g.svd(true, true);
+                let (u, vt, sig) = (svd.u?, svd.v_t?, svd.singular_values);
+                if sig.iter().any(|v| *v <= 0.0 || !v.is_finite()) {
+                    return None;
+                }
+                let isq = Mat::from_diagonal(&sig.map(|v| 1.0 / v.sqrt()));
+                (&ls * vt.transpose() * &isq, &isq * u.transpose() * lz.transpose(), sig)
+            };
+            let rinv_t = rinv.transpose();
+            let m = &rinv_t * &rinv;
+            lam.iter_mut().for_each(|v| *v = 0.0);
+            let mut k = 0;
+            for (j, v) in sig.iter().enumerate() {
+                lam[k + j] = *v;
+                k += j + 1;
+            }
+            Some(Scaling::Psd { r, rinv, rinv_t, m })
+        }
+    }
+}
