@@ -49,7 +49,7 @@ pub(crate) struct Solution {
     pub residual: f64,
 }
 
-/// Why a program was not solved: clarabel's status, and whether it is a certificate that the
+/// Why a program was not solved: the solver and its status (printed as is), and whether it is a certificate that the
 /// program is infeasible (as opposed to a numerical failure: the solver could not finish).
 #[derive(Clone, Debug)]
 pub struct Failure {
@@ -59,15 +59,10 @@ pub struct Failure {
 
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "clarabel status {}", self.status)
+        f.write_str(&self.status)
     }
 }
 
-/// The clarabel settings of one attempt. [`Tuning::default`] is what every program is first solved
-/// with; [`Tuning::robust`] is the retry after a numerical failure: more equilibration passes over a
-/// wider range (the blocks of a long-horizon SDP differ by orders of magnitude), stronger static
-/// regularization and more iterative refinement for the ill-conditioned KKT systems near the
-/// optimum, and tolerances of 1e-8 (what a design needs; its result is checked anyway).
 /// Which interior-point method solves a program: clarabel (every shipped design), or the
 /// project's own ([`super::interior`]: Nesterov–Todd scaling and sparse normal equations, faster on
 /// seed 003's chains; a filter's `solver = "own"`).
@@ -88,6 +83,11 @@ impl Solver {
     }
 }
 
+/// The clarabel settings of one attempt. [`Tuning::default`] is what every program is first solved
+/// with; [`Tuning::robust`] is the retry after a numerical failure: more equilibration passes over a
+/// wider range (the blocks of a long-horizon SDP differ by orders of magnitude), stronger static
+/// regularization and more iterative refinement for the ill-conditioned KKT systems near the
+/// optimum, and tolerances of 1e-8 (what a design needs; its result is checked anyway).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tuning {
     /// The method; the settings below are clarabel's and the own method ignores them.
@@ -220,6 +220,17 @@ impl Conic {
         [dot(&rp, z), dot(&rd, x)]
     }
 
+    /// `Solution::objective_error` of a point (x, s, z) with primal and dual objectives: the
+    /// duality gap plus the first-order effects of the residuals ([`Self::residual_dots`]). A point
+    /// that stopped short of the tolerances (clarabel's AlmostSolved, the own method's slow tail)
+    /// is vouched for only to clarabel's reduced gap tolerance, and the first-order estimate is not
+    /// to be trusted alone near such a point.
+    fn objective_error(&self, cost: &[f64], objectives: [f64; 2], [x, s, z]: [&[f64]; 3], almost: bool) -> f64 {
+        let first_order = (objectives[0] - objectives[1]).abs()
+            + self.residual_dots(cost, x, s, z).iter().map(|v| v.abs()).sum::<f64>();
+        if almost { first_order.max(ALMOST_GAP_REL * objectives[0].abs().max(1.0)) } else { first_order }
+    }
+
     /// Minimizes costᵀx; anything but an (almost) solved status is an error naming it.
     pub(crate) fn minimize(self, cost: &[f64]) -> Result<Solution, String> {
         self.minimize_tuned(cost, &Tuning::default()).map_err(|f| f.to_string())
@@ -238,16 +249,17 @@ impl Conic {
             b: &self.b,
             cones: &self.cones,
         };
-        let out = super::interior::solve(&program, cost)
-            .map_err(|why| Failure { status: format!("own interior-point method: {why}"), infeasible: false })?;
-        let first_order = (out.primal_objective - out.dual_objective).abs()
-            + self.residual_dots(cost, &out.x, &out.s, &out.z).iter().map(|v| v.abs()).sum::<f64>();
+        let out = super::interior::solve(&program, cost).map_err(|why| Failure {
+            status: format!("the own interior-point method failed: {why}"),
+            infeasible: false,
+        })?;
         Ok(Solution {
-            objective_error: if out.almost {
-                first_order.max(ALMOST_GAP_REL * out.primal_objective.abs().max(1.0))
-            } else {
-                first_order
-            },
+            objective_error: self.objective_error(
+                cost,
+                [out.primal_objective, out.dual_objective],
+                [&out.x, &out.s, &out.z],
+                out.almost,
+            ),
             x: out.x,
             z: out.z,
             iterations: out.iterations,
@@ -281,9 +293,9 @@ impl Conic {
             .static_regularization_constant(tuning.static_regularization)
             .iterative_refinement_max_iter(tuning.refinement_iter)
             .build()
-            .map_err(|e| Failure { status: format!("settings error {e}"), infeasible: false })?;
+            .map_err(|e| Failure { status: format!("clarabel settings error {e}"), infeasible: false })?;
         let mut solver = DefaultSolver::new(&p, cost, &a, &self.b, &self.cones, settings)
-            .map_err(|e| Failure { status: format!("setup error {e:?}"), infeasible: false })?;
+            .map_err(|e| Failure { status: format!("clarabel setup error {e:?}"), infeasible: false })?;
         solver.solve();
         let sol = &solver.solution;
         match sol.status {
@@ -293,22 +305,17 @@ impl Conic {
                 iterations: sol.iterations,
                 seconds: sol.solve_time,
                 almost: sol.status == SolverStatus::AlmostSolved,
-                objective_error: {
-                    let first_order = (sol.obj_val - sol.obj_val_dual).abs()
-                        + self.residual_dots(cost, &sol.x, &sol.s, &sol.z).iter().map(|v| v.abs()).sum::<f64>();
-                    // AlmostSolved: clarabel vouches only for its reduced gap tolerance, and the
-                    // first-order estimate is not to be trusted alone near such a point.
-                    if sol.status == SolverStatus::AlmostSolved {
-                        first_order.max(ALMOST_GAP_REL * sol.obj_val.abs().max(1.0))
-                    } else {
-                        first_order
-                    }
-                },
+                objective_error: self.objective_error(
+                    cost,
+                    [sol.obj_val, sol.obj_val_dual],
+                    [&sol.x, &sol.s, &sol.z],
+                    sol.status == SolverStatus::AlmostSolved,
+                ),
                 dual_objective: sol.obj_val_dual,
                 residual: sol.r_prim.max(sol.r_dual),
             }),
             s => Err(Failure {
-                status: format!("{s:?}"),
+                status: format!("clarabel status {s:?}"),
                 infeasible: matches!(
                     s,
                     SolverStatus::PrimalInfeasible

@@ -25,18 +25,18 @@ pub(super) struct Cone {
 pub(super) enum Scaling {
     /// W = diag(d).
     Nonnegative(Vec<f64>),
-    /// W and W⁻¹, both symmetric.
-    SecondOrder(Mat, Mat),
-    /// W: Z ↦ RᵀZR, kept as the four matrices B of the sandwiches V ↦ B V Bᵀ it needs: R (Wᵀ),
-    /// R⁻¹ (W⁻ᵀ), R⁻ᵀ (W⁻¹) and M = R⁻ᵀR⁻¹ (W⁻¹W⁻ᵀ).
-    Psd { r: Mat, rinv: Mat, rinv_t: Mat, m: Mat },
+    /// W⁻¹ (W is symmetric, so W⁻ᵀ = W⁻¹).
+    SecondOrder(Mat),
+    /// W: Z ↦ RᵀZR, kept as the three matrices B of the sandwiches V ↦ B V Bᵀ it needs: R⁻¹ (W⁻ᵀ),
+    /// R⁻ᵀ (W⁻¹) and M = R⁻ᵀR⁻¹ (W⁻¹W⁻ᵀ).
+    Psd { rinv: Mat, rinv_t: Mat, m: Mat },
 }
 
-/// What the scaling does to a vector: W⁻ᵀ, Wᵀ, W⁻¹ and W⁻¹W⁻ᵀ (W itself is not needed).
+/// What the scaling does to a vector: W⁻ᵀ, W⁻¹ and W⁻¹W⁻ᵀ (W itself is not needed: the primal
+/// step is formed in the original coordinates).
 #[derive(Clone, Copy, PartialEq)]
 pub(super) enum Op {
     InvTranspose,
-    Transpose,
     Inverse,
     Normal,
 }
@@ -366,15 +366,10 @@ pub(super) fn apply(sc: &Scaling, op: Op, v: &[f64], out: &mut [f64], w: &mut Sc
     match sc {
         Scaling::Nonnegative(d) => {
             for i in 0..v.len() {
-                out[i] = match op {
-                    Op::Transpose => d[i] * v[i],
-                    Op::Normal => v[i] / (d[i] * d[i]),
-                    _ => v[i] / d[i],
-                };
+                out[i] = if op == Op::Normal { v[i] / (d[i] * d[i]) } else { v[i] / d[i] };
             }
         }
-        Scaling::SecondOrder(wm, winv) => {
-            let m = if op == Op::Transpose { wm } else { winv };
+        Scaling::SecondOrder(m) => {
             for (i, o) in out.iter_mut().enumerate() {
                 *o = (0..v.len()).map(|j| m[(i, j)] * v[j]).sum();
             }
@@ -386,10 +381,9 @@ pub(super) fn apply(sc: &Scaling, op: Op, v: &[f64], out: &mut [f64], w: &mut Sc
                 }
             }
         }
-        Scaling::Psd { r, rinv, rinv_t, m } => {
+        Scaling::Psd { rinv, rinv_t, m } => {
             let b = match op {
                 Op::InvTranspose => rinv,
-                Op::Transpose => r,
                 Op::Inverse => rinv_t,
                 Op::Normal => m,
             };
@@ -442,10 +436,11 @@ pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Opti
             for (i, l) in lam.iter_mut().enumerate() {
                 *l = (0..n).map(|j| w[(i, j)] * z[j]).sum();
             }
-            Some(Scaling::SecondOrder(w, winv))
+            Some(Scaling::SecondOrder(winv))
         }
         Kind::Psd(n) => {
-            // L_s, L_z Cholesky factors, L_zᵀ L_s = U Σ Vᵀ: R = L_s V Σ^{-1/2}, R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ.
+            // L_s, L_z Cholesky factors, L_zᵀ L_s = U Σ Vᵀ: R = L_s V Σ^{-1/2}, R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ
+            // (only R⁻¹ is needed).
             let (mut sm, mut zm) = (Mat::zeros(n, n), Mat::zeros(n, n));
             smat(s, n, &mut sm);
             smat(z, n, &mut zm);
@@ -458,20 +453,18 @@ pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Opti
             let eig = (g.transpose() * &g).symmetric_eigen();
             let sig = eig.eigenvalues.map(|e| e.max(0.0).sqrt());
             let (smin, smax) = (sig.min(), sig.max());
-            let (r, rinv, sig) = if smin > 0.0 && smax < 1e4 * smin {
-                let v = eig.eigenvectors;
-                let isq = Mat::from_diagonal(&sig.map(|v| 1.0 / v.sqrt()));
+            let (rinv, sig) = if smin > 0.0 && smax < 1e4 * smin {
                 // R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ = Σ^{-3/2} Vᵀ Gᵀ L_zᵀ.
                 let is3 = Mat::from_diagonal(&sig.map(|v| 1.0 / (v * v.sqrt())));
-                (&ls * &v * &isq, &is3 * v.transpose() * g.transpose() * lz.transpose(), sig)
+                (&is3 * eig.eigenvectors.transpose() * g.transpose() * lz.transpose(), sig)
             } else {
                 let svd = g.svd(true, true);
-                let (u, vt, sig) = (svd.u?, svd.v_t?, svd.singular_values);
+                let (u, sig) = (svd.u?, svd.singular_values);
                 if sig.iter().any(|v| *v <= 0.0 || !v.is_finite()) {
                     return None;
                 }
                 let isq = Mat::from_diagonal(&sig.map(|v| 1.0 / v.sqrt()));
-                (&ls * vt.transpose() * &isq, &isq * u.transpose() * lz.transpose(), sig)
+                (&isq * u.transpose() * lz.transpose(), sig)
             };
             let rinv_t = rinv.transpose();
             let m = &rinv_t * &rinv;
@@ -481,7 +474,7 @@ pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Opti
                 lam[k + j] = *v;
                 k += j + 1;
             }
-            Some(Scaling::Psd { r, rinv, rinv_t, m })
+            Some(Scaling::Psd { rinv, rinv_t, m })
         }
     }
 }

@@ -132,13 +132,9 @@ pub(crate) fn solve(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
         .iter()
         .map(|c| match c.kind {
             Kind::Nonnegative => Scaling::Nonnegative(vec![1.0; c.rows.len()]),
-            Kind::SecondOrder => Scaling::SecondOrder(
-                Mat::identity(c.rows.len(), c.rows.len()),
-                Mat::identity(c.rows.len(), c.rows.len()),
-            ),
+            Kind::SecondOrder => Scaling::SecondOrder(Mat::identity(c.rows.len(), c.rows.len())),
             Kind::Psd(k) => {
-                let i = Mat::identity(k, k);
-                Scaling::Psd { r: i.clone(), rinv: i.clone(), rinv_t: i.clone(), m: i }
+                Scaling::Psd { rinv: Mat::identity(k, k), rinv_t: Mat::identity(k, k), m: Mat::identity(k, k) }
             }
         })
         .collect();
@@ -148,8 +144,8 @@ pub(crate) fn solve(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
     let mut fact = QDLDLFactorisation::new(&h, Some(settings)).map_err(|e| format!("the normal matrix: {e:?}"))?;
     let every: Vec<usize> = (0..hv.len()).collect();
 
-    // Initial point (Vandenberghe §7.1): x minimizes |Ax − b|² + 2cᵀx... i.e. AᵀA x = Aᵀb − c;
-    // s = b − Ax, z = −s, both shifted inside.
+    // Initial point (Vandenberghe §7.1): the Newton system at W = I, AᵀA x = Aᵀb − c, gives
+    // s = b − Ax and z = −s, each then shifted into its cone's interior.
     let mut x = vec![0.0; n];
     d.atz(p.b, &mut x);
     x.iter_mut().zip(cost).for_each(|(x, c)| *x -= c);

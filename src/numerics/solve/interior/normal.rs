@@ -191,7 +191,7 @@ impl Normal {
                         pair(r, r, 1.0 / (w[i] * w[i]));
                     }
                 }
-                Scaling::SecondOrder(_, winv) => {
+                Scaling::SecondOrder(winv) => {
                     let w2 = winv * winv;
                     for (a, ra) in cone.rows.clone().enumerate() {
                         for (b, rb) in cone.rows.clone().enumerate() {
