@@ -241,3 +241,32 @@ fn own_interior_point_method_designs_what_clarabel_designs() {
         }
     }
 }
+
+/// The own interior-point method works on its cones in parallel (each cone's scaling, products,
+/// step length and normal-matrix terms depend on its own rows only; the terms are added and the
+/// step lengths reduced in a fixed order), so its filter is the same bits on one thread and on four.
+#[test]
+fn own_interior_point_method_is_the_same_bits_on_any_thread_count() {
+    use filterbench::numerics::solve::conic::Solver;
+    let exp = plant("filtering", 25, NOISE, "");
+    let design = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let o = anisotropic::synthesize_checked_with(
+                &exp.plant,
+                Structure::Predictor,
+                Level::Anisotropy(4.0),
+                Solver::Own,
+            )
+            .unwrap();
+            assert_eq!(o.solver, Solver::Own, "the own method failed and clarabel designed");
+            let s = o.synthesis;
+            let bits = |m: &[filterbench::numerics::linalg::Mat]| {
+                m.iter().flat_map(|m| m.iter().map(|v| v.to_bits())).collect::<Vec<u64>>()
+            };
+            (s.gamma_sq.to_bits(), s.iterations, bits(&s.w), bits(&s.h), bits(&s.f), bits(&s.g))
+        })
+    };
+    let one = design(1);
+    assert_eq!(one, design(4), "the design moved with the thread count");
+}

@@ -1,6 +1,9 @@
 //! The cones of [`super`]: their Nesterov–Todd scalings, Jordan products and step lengths, and the
 //! svec conventions of clarabel's PSD triangle (upper triangle, column-major, off-diagonals × √2).
 
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, DimDiff, DimSub, Dyn, OMatrix, U1};
+
 use crate::numerics::linalg::Mat;
 pub(super) use crate::numerics::linalg::unpack_triangle as smat;
 
@@ -135,6 +138,7 @@ fn sandwich(b: &[f64], n: usize, v: &[f64], out: &mut [f64], w: &mut Scratch) {
         6 => return if wide { unsafe { sandwich_avx2::<6>(b, v, out) } } else { sandwich_fixed::<6>(b, v, out) },
         7 => return if wide { unsafe { sandwich_avx2::<7>(b, v, out) } } else { sandwich_fixed::<7>(b, v, out) },
         8 => return if wide { unsafe { sandwich_avx2::<8>(b, v, out) } } else { sandwich_fixed::<8>(b, v, out) },
+        9 => return if wide { unsafe { sandwich_avx2::<9>(b, v, out) } } else { sandwich_fixed::<9>(b, v, out) },
         10 => return if wide { unsafe { sandwich_avx2::<10>(b, v, out) } } else { sandwich_fixed::<10>(b, v, out) },
         12 => return if wide { unsafe { sandwich_avx2::<12>(b, v, out) } } else { sandwich_fixed::<12>(b, v, out) },
         14 => return if wide { unsafe { sandwich_avx2::<14>(b, v, out) } } else { sandwich_fixed::<14>(b, v, out) },
@@ -264,6 +268,23 @@ pub(super) fn max_step(kind: Kind, x: &[f64], d: &[f64], cap: f64, w: &mut Scrat
     }
 }
 
+/// An upper bound on [`max_step`] without a factorization: the same for the nonnegative and
+/// second-order cones; for a PSD cone the diagonal's (λ_i + α d_ii ≥ 0 is necessary for
+/// Λ + αD ⪰ 0).
+pub(super) fn step_bound(kind: Kind, x: &[f64], d: &[f64], cap: f64, w: &mut Scratch) -> f64 {
+    match kind {
+        Kind::Psd(n) => {
+            let mut k = 0;
+            (0..n).fold(cap, |a, j| {
+                let i = k + j;
+                k += j + 1;
+                if d[i] < 0.0 { a.min(-x[i] / d[i]) } else { a }
+            })
+        }
+        _ => max_step(kind, x, d, cap, w),
+    }
+}
+
 /// Whether the symmetric matrix with upper-triangle entries entry(i, j, v), v the triangle's
 /// unscaled value of d, has a Cholesky factor (is positive definite), in the scratch a.
 fn factors(n: usize, entry: impl Fn(usize, usize, f64) -> f64, d: &[f64], a: &mut [f64]) -> bool {
@@ -328,6 +349,22 @@ pub(super) fn jprod(kind: Kind, u: &[f64], v: &[f64], out: &mut [f64], w: &mut S
                 }
             }
         }
+    }
+}
+
+/// λ∘λ, for λ = W z as [`scaling`] leaves it: diagonal for a PSD cone, so the product is the
+/// squares of the diagonal (the same bits as [`jprod`], without its n³ work).
+pub(super) fn jsquare(kind: Kind, lam: &[f64], out: &mut [f64], w: &mut Scratch) {
+    match kind {
+        Kind::Psd(n) => {
+            out.iter_mut().for_each(|v| *v = 0.0);
+            let mut k = 0;
+            for j in 0..n {
+                out[k + j] = lam[k + j] * lam[k + j];
+                k += j + 1;
+            }
+        }
+        _ => jprod(kind, lam, lam, out, w),
     }
 }
 
@@ -439,35 +476,24 @@ pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Opti
             Some(Scaling::SecondOrder(winv))
         }
         Kind::Psd(n) => {
-            // L_s, L_z Cholesky factors, L_zᵀ L_s = U Σ Vᵀ: R = L_s V Σ^{-1/2}, R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ
-            // (only R⁻¹ is needed).
-            let (mut sm, mut zm) = (Mat::zeros(n, n), Mat::zeros(n, n));
-            smat(s, n, &mut sm);
-            smat(z, n, &mut zm);
-            let ls = sm.cholesky()?.l();
-            let lz = zm.cholesky()?.l();
-            // G = L_zᵀ L_s = U Σ Vᵀ. Its singular vectors from the symmetric eigenproblem GᵀG = V Σ² Vᵀ
-            // (about half an SVD's work), U = G V Σ⁻¹; that squares G's condition number, so where
-            // σ_max/σ_min > 10⁴ (a relative error above 10⁻⁸ in σ_min²) the SVD itself is taken.
-            let g = lz.transpose() * &ls;
-            let eig = (g.transpose() * &g).symmetric_eigen();
-            let sig = eig.eigenvalues.map(|e| e.max(0.0).sqrt());
-            let (smin, smax) = (sig.min(), sig.max());
-            let (rinv, sig) = if smin > 0.0 && smax < 1e4 * smin {
-                // R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ = Σ^{-3/2} Vᵀ Gᵀ L_zᵀ.
-                let is3 = Mat::from_diagonal(&sig.map(|v| 1.0 / (v * v.sqrt())));
-                (&is3 * eig.eigenvectors.transpose() * g.transpose() * lz.transpose(), sig)
-            } else {
-                let svd = g.svd(true, true);
-                let (u, sig) = (svd.u?, svd.singular_values);
-                if sig.iter().any(|v| *v <= 0.0 || !v.is_finite()) {
-                    return None;
-                }
-                let isq = Mat::from_diagonal(&sig.map(|v| 1.0 / v.sqrt()));
-                (&isq * u.transpose() * lz.transpose(), sig)
+            // The block sizes of seed 003's programs after the chordal decomposition (2 to 10; 16
+            // undecomposed): at a size known to the compiler nalgebra keeps the matrices on the
+            // stack and multiplies them in plain loops.
+            let (rinv, m, sig) = match n {
+                2 => psd_scaling(Const::<2>, s, z)?,
+                3 => psd_scaling(Const::<3>, s, z)?,
+                4 => psd_scaling(Const::<4>, s, z)?,
+                5 => psd_scaling(Const::<5>, s, z)?,
+                6 => psd_scaling(Const::<6>, s, z)?,
+                7 => psd_scaling(Const::<7>, s, z)?,
+                8 => psd_scaling(Const::<8>, s, z)?,
+                9 => psd_scaling(Const::<9>, s, z)?,
+                10 => psd_scaling(Const::<10>, s, z)?,
+                12 => psd_scaling(Const::<12>, s, z)?,
+                16 => psd_scaling(Const::<16>, s, z)?,
+                _ => psd_scaling(Dyn(n), s, z)?,
             };
             let rinv_t = rinv.transpose();
-            let m = &rinv_t * &rinv;
             lam.iter_mut().for_each(|v| *v = 0.0);
             let mut k = 0;
             for (j, v) in sig.iter().enumerate() {
@@ -477,4 +503,53 @@ pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Opti
             Some(Scaling::Psd { rinv, rinv_t, m })
         }
     }
+}
+
+/// A PSD cone's Nesterov–Todd scaling (Vandenberghe's CVXOPT paper §4.4): with Cholesky factors
+/// S = L_s L_sᵀ, Z = L_z L_zᵀ and L_zᵀ L_s = U Σ Vᵀ, R = L_s V Σ^{-1/2}; returns R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ,
+/// M = R⁻ᵀR⁻¹ and Σ (λ's diagonal), or None if s or z has left the cone's interior numerically.
+fn psd_scaling<D>(dim: D, s: &[f64], z: &[f64]) -> Option<(Mat, Mat, Vec<f64>)>
+where
+    D: DimSub<U1>,
+    DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,
+{
+    let n = dim.value();
+    let unpack = |v: &[f64]| {
+        OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| {
+            let (i, j) = (i.min(j), i.max(j));
+            let x = v[j * (j + 1) / 2 + i];
+            if i == j { x } else { x / SQ2 }
+        })
+    };
+    let ls = unpack(s).cholesky()?.l();
+    let lz = unpack(z).cholesky()?.l();
+    // G = L_zᵀ L_s = U Σ Vᵀ. Its singular vectors from the symmetric eigenproblem GᵀG = V Σ² Vᵀ
+    // (about half an SVD's work), U = G V Σ⁻¹; that squares G's condition number, so where
+    // σ_max/σ_min > 10⁴ (a relative error above 10⁻⁸ in σ_min²) the SVD itself is taken.
+    let g = lz.tr_mul(&ls);
+    let eig = g.tr_mul(&g).symmetric_eigen();
+    let sig: Vec<f64> = eig.eigenvalues.iter().map(|e| e.max(0.0).sqrt()).collect();
+    let (smin, smax) = sig.iter().fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(*v), b.max(*v)));
+    let (rinv, sig) = if smin > 0.0 && smax < 1e4 * smin {
+        // R⁻¹ = Σ^{-3/2} Vᵀ Gᵀ L_zᵀ, with P = Vᵀ Gᵀ.
+        let p = eig.eigenvectors.tr_mul(&g.transpose());
+        let h = p.transpose().tr_mul(&lz.transpose());
+        let rinv = OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| h[(i, j)] / (sig[i] * sig[i].sqrt()));
+        (rinv, sig)
+    } else {
+        let svd = Mat::from_iterator(n, n, g.iter().copied()).svd(true, true);
+        let (u, sig) = (svd.u?, svd.singular_values);
+        if sig.iter().any(|v| *v <= 0.0 || !v.is_finite()) {
+            return None;
+        }
+        let rinv = OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| {
+            (0..n).map(|k| u[(k, i)] * lz[(j, k)]).sum::<f64>() / sig[i].sqrt()
+        });
+        (rinv, sig.iter().copied().collect())
+    };
+    // Every product is nalgebra's dot-based Aᵀ B: a general product of a dynamic size would go
+    // through matrixmultiply, whose kernel (and rounding) depends on the processor.
+    let m = rinv.tr_mul(&rinv);
+    let dynamic = |a: &OMatrix<f64, D, D>| Mat::from_iterator(n, n, a.iter().copied());
+    Some((dynamic(&rinv), dynamic(&m), sig))
 }

@@ -3,7 +3,12 @@
 
 use clarabel::solver::SupportedConeT;
 
+use rayon::prelude::*;
+
 use super::cone::{Cone, Kind, SQ2, Scaling};
+
+/// Rows (or columns) of A per parallel task in Ax and Aᵀz.
+const ROWS_PER_TASK: usize = 2048;
 
 pub(super) struct Data {
     pub(super) m: usize,
@@ -12,9 +17,15 @@ pub(super) struct Data {
     pub(super) rp: Vec<usize>,
     pub(super) ci: Vec<usize>,
     pub(super) rv: Vec<f64>,
+    /// A by columns (for Aᵀz).
+    cp: Vec<usize>,
+    ri: Vec<usize>,
+    cv: Vec<f64>,
     pub(super) cones: Vec<Cone>,
     /// Σ of the cones' degrees (n for PSD(n), 1 for a second-order cone, 1 per nonnegative row).
     pub(super) degree: usize,
+    /// The size a [`super::cone::Scratch`] needs: the largest PSD block or second-order cone.
+    pub(super) largest: usize,
 }
 
 impl Data {
@@ -34,6 +45,22 @@ impl Data {
             ci[at[r]] = c;
             rv[at[r]] = v;
             at[r] += 1;
+        }
+        // By columns, each column's entries in row order.
+        let mut cp = vec![0usize; n + 1];
+        for &c in &ci {
+            cp[c + 1] += 1;
+        }
+        for j in 0..n {
+            cp[j + 1] += cp[j];
+        }
+        let (mut at, mut ri, mut cv) = (cp.clone(), vec![0; ci.len()], vec![0.0; ci.len()]);
+        for r in 0..m {
+            for k in rp[r]..rp[r + 1] {
+                ri[at[ci[k]]] = r;
+                cv[at[ci[k]]] = rv[k];
+                at[ci[k]] += 1;
+            }
         }
         let mut cones = Vec::new();
         let (mut off, mut degree) = (0, 0);
@@ -65,22 +92,32 @@ impl Data {
             off += dim;
             degree += deg;
         }
-        Ok(Data { m, n, rp, ci, rv, cones, degree })
+        let largest = cones
+            .iter()
+            .map(|c| match c.kind {
+                Kind::Psd(k) => k,
+                Kind::SecondOrder => c.rows.len(),
+                Kind::Nonnegative => 0,
+            })
+            .max()
+            .unwrap_or(0)
+            .max(3);
+        Ok(Data { m, n, rp, ci, rv, cp, ri, cv, cones, degree, largest })
     }
 
+    /// Ax, rows in parallel (each row's sum in its own order).
     pub(super) fn ax(&self, x: &[f64], out: &mut [f64]) {
-        for (r, o) in out.iter_mut().enumerate() {
+        out.par_iter_mut().enumerate().with_min_len(ROWS_PER_TASK).for_each(|(r, o)| {
             *o = (self.rp[r]..self.rp[r + 1]).map(|k| self.rv[k] * x[self.ci[k]]).sum();
-        }
+        });
     }
 
+    /// Aᵀz, columns in parallel from A by columns, each summed in row order: the same bits as
+    /// scattering the rows in order.
     pub(super) fn atz(&self, z: &[f64], out: &mut [f64]) {
-        out.iter_mut().for_each(|v| *v = 0.0);
-        for (r, &zr) in z.iter().enumerate() {
-            for k in self.rp[r]..self.rp[r + 1] {
-                out[self.ci[k]] += self.rv[k] * zr;
-            }
-        }
+        out.par_iter_mut().enumerate().with_min_len(ROWS_PER_TASK).for_each(|(c, o)| {
+            *o = (self.cp[c]..self.cp[c + 1]).fold(0.0, |acc, k| acc + self.cv[k] * z[self.ri[k]]);
+        });
     }
 
     /// The variables each cone touches, for the normal matrix's pattern.
@@ -169,69 +206,105 @@ impl Normal {
         self.colptr[j] + col.binary_search(&i).expect("in the pattern")
     }
 
-    /// H = Σ_cones A_cᵀ W_c⁻¹ W_c⁻ᵀ A_c; for a PSD cone H_ij = tr(A_i M A_j M), M = R⁻ᵀR⁻¹, from
-    /// each coefficient matrix's nonzeros.
-    pub(super) fn assemble(&self, d: &Data, sc: &[Scaling], vals: &mut [f64]) {
+    /// H = Σ_cones A_cᵀ W_c⁻¹ W_c⁻ᵀ A_c. The cones' terms are formed in parallel into `terms` (one
+    /// slice per cone, as long as its slots) and added in cone order, so the sums do not depend on
+    /// the thread count.
+    pub(super) fn assemble(&self, d: &Data, sc: &[Scaling], terms: &mut [f64], vals: &mut [f64]) {
+        let mut parts = split_mut(terms, self.slots.iter().map(Vec::len));
+        d.cones
+            .par_iter()
+            .zip(sc)
+            .zip(parts.par_iter_mut())
+            .with_min_len(super::CONES_PER_TASK)
+            .for_each(|((cone, s), out)| cone_terms(d, cone, s, out));
         vals.iter_mut().for_each(|v| *v = 0.0);
-        for ((cone, s), slots) in d.cones.iter().zip(sc).zip(&self.slots) {
-            let mut slot = slots.iter();
-            let mut add = |v: f64| vals[*slot.next().expect("visited in the same order")] += v;
-            let mut pair = |r1: usize, r2: usize, f: f64| {
-                for k1 in d.rp[r1]..d.rp[r1 + 1] {
-                    for k2 in d.rp[r2]..d.rp[r2 + 1] {
-                        if d.ci[k1] <= d.ci[k2] {
-                            add(f * d.rv[k1] * d.rv[k2]);
-                        }
-                    }
+        for (slots, part) in self.slots.iter().zip(&parts) {
+            for (&k, v) in slots.iter().zip(part.iter()) {
+                vals[k] += v;
+            }
+        }
+    }
+
+    /// The length of `assemble`'s `terms`.
+    pub(super) fn terms(&self) -> usize {
+        self.slots.iter().map(Vec::len).sum()
+    }
+}
+
+/// One cone's terms of A_cᵀ W_c⁻¹ W_c⁻ᵀ A_c, in [`Normal::visit`]'s order; for a PSD cone
+/// H_ij = tr(A_i M A_j M), M = R⁻ᵀR⁻¹, from each coefficient matrix's nonzeros.
+fn cone_terms(d: &Data, cone: &Cone, s: &Scaling, out: &mut [f64]) {
+    let mut slot = out.iter_mut();
+    let mut add = |v: f64| *slot.next().expect("visited in the same order") = v;
+    let mut pair = |r1: usize, r2: usize, f: f64| {
+        for k1 in d.rp[r1]..d.rp[r1 + 1] {
+            for k2 in d.rp[r2]..d.rp[r2 + 1] {
+                if d.ci[k1] <= d.ci[k2] {
+                    add(f * d.rv[k1] * d.rv[k2]);
                 }
-            };
-            match s {
-                Scaling::Nonnegative(w) => {
-                    for (i, r) in cone.rows.clone().enumerate() {
-                        pair(r, r, 1.0 / (w[i] * w[i]));
-                    }
+            }
+        }
+    };
+    match s {
+        Scaling::Nonnegative(w) => {
+            for (i, r) in cone.rows.clone().enumerate() {
+                pair(r, r, 1.0 / (w[i] * w[i]));
+            }
+        }
+        Scaling::SecondOrder(winv) => {
+            // W⁻² by plain sums, not a dynamic product (whose kernel nalgebra picks by processor).
+            let k = winv.nrows();
+            let w2 =
+                crate::numerics::linalg::Mat::from_fn(k, k, |a, b| (0..k).map(|c| winv[(a, c)] * winv[(c, b)]).sum());
+            for (a, ra) in cone.rows.clone().enumerate() {
+                for (b, rb) in cone.rows.clone().enumerate() {
+                    pair(ra, rb, w2[(a, b)]);
                 }
-                Scaling::SecondOrder(winv) => {
-                    let w2 = winv * winv;
-                    for (a, ra) in cone.rows.clone().enumerate() {
-                        for (b, rb) in cone.rows.clone().enumerate() {
-                            pair(ra, rb, w2[(a, b)]);
-                        }
-                    }
-                }
-                Scaling::Psd { m: mm, .. } => {
-                    // tr(A_i M A_j M) entry by entry: with A = Σ a E_rs over the symmetric pairs
-                    // (r, s) of its nonzeros, tr(E_rs M E_tu M) = M_st M_ur — the products of
-                    // the two matrices' few nonzeros, never a dense M A_j M.
-                    let n = mm.nrows();
-                    let m = mm.as_slice();
-                    let at = |i: usize, j: usize| m[i + j * n];
-                    for (jj, (_, ej)) in cone.coefs.iter().enumerate() {
-                        for (_, ei) in &cone.coefs[..=jj] {
-                            let mut acc = 0.0;
-                            for &(r, s, a) in ei {
-                                for &(t, u, b) in ej {
-                                    // Σ over (r,s),(s,r) and (t,u),(u,t), once for a diagonal entry.
-                                    let mut v = at(s, t) * at(u, r);
-                                    if t != u {
-                                        v += at(s, u) * at(t, r);
-                                    }
-                                    if r != s {
-                                        v += at(r, t) * at(u, s);
-                                        if t != u {
-                                            v += at(r, u) * at(t, s);
-                                        }
-                                    }
-                                    acc += a * b * v;
+            }
+        }
+        Scaling::Psd { m: mm, .. } => {
+            // tr(A_i M A_j M) entry by entry: with A = Σ a E_rs over the symmetric pairs
+            // (r, s) of its nonzeros, tr(E_rs M E_tu M) = M_st M_ur — the products of
+            // the two matrices' few nonzeros, never a dense M A_j M.
+            let n = mm.nrows();
+            let m = mm.as_slice();
+            let at = |i: usize, j: usize| m[i + j * n];
+            for (jj, (_, ej)) in cone.coefs.iter().enumerate() {
+                for (_, ei) in &cone.coefs[..=jj] {
+                    let mut acc = 0.0;
+                    for &(r, s, a) in ei {
+                        for &(t, u, b) in ej {
+                            // Σ over (r,s),(s,r) and (t,u),(u,t), once for a diagonal entry.
+                            let mut v = at(s, t) * at(u, r);
+                            if t != u {
+                                v += at(s, u) * at(t, r);
+                            }
+                            if r != s {
+                                v += at(r, t) * at(u, s);
+                                if t != u {
+                                    v += at(r, u) * at(t, s);
                                 }
                             }
-                            add(acc);
+                            acc += a * b * v;
                         }
                     }
+                    add(acc);
                 }
             }
         }
     }
+}
+
+/// Consecutive parts of v of the given lengths, for per-cone work in parallel.
+pub(super) fn split_mut(v: &mut [f64], lens: impl Iterator<Item = usize>) -> Vec<&mut [f64]> {
+    let mut rest = v;
+    let mut out = Vec::new();
+    for len in lens {
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(len);
+        out.push(head);
+        rest = tail;
+    }
+    out
 }
 
 /// The program as `Conic` holds it: triplets of A, b and the cones in row order.

@@ -17,7 +17,9 @@ pub mod implementations;
 
 // chordal decomposition only if SDPs are enabled
 #[cfg(feature = "sdp")]
-pub(crate) mod chordal;
+// filterbench patch 6: public, for `chordal::Decomposition`.
+/// Chordal decomposition of sparse PSD cones.
+pub mod chordal;
 
 //Here we expose only part of the solver internals
 //and rearrange public modules a bit to give a more
