@@ -16,20 +16,28 @@
 //! programs: a PSD block of the chain (4.42)–(4.43) touches only the variables of steps k and k + 1,
 //! so the normal matrix is a band of about 40 variables with two dense rows (γ², η), factored by
 //! QDLDL with its AMD ordering, and each entry tr(A_i M A_j M) is a sum over the two coefficient
-//! matrices' few nonzeros (54 in a 16 × 16 block of `aniso_dropout`); clarabel factors the KKT
-//! system of all 38 000 rows and splits every PSD cone into its cliques. What keeps it accurate:
-//! each normal-equations solve is refined against the operator Aᵀ W⁻¹ W⁻ᵀ A itself, not the
-//! factored matrix, until its residual stops halving; the primal step is Δs = −(AΔx + r_p) in the
-//! original coordinates (not Wᵀ of the scaled one), so the primal residual falls as (1 − α) r_p
-//! however ill-conditioned W grows.
+//! matrices' few nonzeros; before that, every sparse PSD block is split into its cliques by
+//! clarabel's own chordal decomposition (see [`solve`]), so the n³ work of a 16 × 16 block becomes
+//! that of blocks of 10, 6 and 3. The cones' work (scalings, products, step lengths, the normal
+//! matrix's terms) runs in parallel, a cone's result depending on its own rows only and every sum
+//! over cones taken in a fixed order, so the result is the same bits on any number of threads. What
+//! keeps it accurate: each normal-equations solve is finished by conjugate gradients on the operator
+//! Aᵀ W⁻¹ W⁻ᵀ A itself, preconditioned by the factored matrix (one step or none where the
+//! factorization is accurate; a few more near the optimum of a decomposed program, where the
+//! matrix grows too ill-conditioned for plain iterative refinement to converge); the primal step is
+//! Δs = −(AΔx + r_p) in the original coordinates (not Wᵀ of the scaled one), so the primal residual
+//! falls as (1 − α) r_p however ill-conditioned W grows. No product goes through a kernel chosen by
+//! the processor at run time (the small matrices are nalgebra's fixed-size ones or its dot-based
+//! products, the blocks' sandwiches AVX2 without fused multiply–add), and no BLAS: the design does
+//! not depend on the OpenBLAS kernel.
 //!
 //! Where it stops: at relative residuals and gap of 10⁻⁸ (`TOL`); or, on a slow linear tail
 //! (degenerate programs — the H∞ designs, whose optimal filters are not unique), once they are
 //! below 10⁻⁶ and five iterations gained less than a factor ten; or after five iterations without a
 //! better point. A point short of `TOL` is returned only within clarabel's own AlmostSolved
 //! thresholds, and marked so (its objective error is then held to clarabel's reduced gap, in
-//! `conic`'s `minimize_own`); anything else is an error, and the design falls back to
-//! clarabel. The H2 designs (a = 0), whose optimum is approached as η → ∞ and not attained, end on
+//! `conic`'s `minimize_own`); a decomposed program that ends otherwise is solved again as written,
+//! and anything else is an error, on which the design falls back to clarabel. The H2 designs (a = 0), whose optimum is approached as η → ∞ and not attained, end on
 //! the slow tail.
 //!
 //! Whatever this solver returns is checked as clarabel's designs are
@@ -45,13 +53,14 @@ use crate::numerics::linalg::Mat;
 
 mod cone;
 mod normal;
+mod sandwich;
 
 use cone::{
     Cone, Kind, Op, Scaling, Scratch, apply, dot, identity, jdiv, jprod, jsquare, max_step, norm, scaling, smat,
     step_bound,
 };
 pub(crate) use normal::Program;
-use normal::{Data, Normal, split_mut};
+use normal::{CONES_PER_TASK, Data, Normal, split_mut};
 use rayon::prelude::*;
 
 /// Stopping tolerance on the relative primal and dual residuals and the relative gap: what the
@@ -66,8 +75,8 @@ const ALMOST_GAP: f64 = 5e-5;
 const MAX_ITER: usize = 120;
 /// Below this measure a slowly converging run stops (see the loop).
 const SLOW: f64 = 1e-6;
-/// Iterative refinement of a normal-equations solve stops at this relative residual (or when it
-/// stops halving).
+/// The conjugate gradients of a normal-equations solve stop at this relative residual (or after
+/// [`CG_STEPS`]).
 const REFINE: f64 = 1e-12;
 /// At most this many conjugate-gradient steps per normal-equations solve.
 const CG_STEPS: usize = 20;
@@ -105,10 +114,6 @@ fn each(d: &Data, f: impl FnMut(&Cone, std::ops::Range<usize>)) {
 fn parts<'a>(d: &Data, v: &'a mut [f64]) -> Vec<&'a mut [f64]> {
     split_mut(v, d.cones.iter().map(|c| c.rows.len()))
 }
-
-/// Cones per parallel task (a cone's work is a few microseconds, a task's start a fraction of one),
-/// and the fixed runs of `step_to_boundary`.
-pub(super) const CONES_PER_TASK: usize = 32;
 
 fn apply_all(d: &Data, sc: &[Scaling], op: Op, v: &[f64], out: &mut [f64]) {
     d.cones

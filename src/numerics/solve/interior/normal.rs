@@ -7,6 +7,10 @@ use rayon::prelude::*;
 
 use super::cone::{Cone, Kind, SQ2, Scaling};
 
+/// Cones per parallel task (a cone's work is a few microseconds, a task's start a fraction of one),
+/// and the fixed runs of `step_to_boundary`.
+pub(super) const CONES_PER_TASK: usize = 32;
+
 /// Rows (or columns) of A per parallel task in Ax and Aᵀz.
 const ROWS_PER_TASK: usize = 2048;
 
@@ -215,7 +219,7 @@ impl Normal {
             .par_iter()
             .zip(sc)
             .zip(parts.par_iter_mut())
-            .with_min_len(super::CONES_PER_TASK)
+            .with_min_len(CONES_PER_TASK)
             .for_each(|((cone, s), out)| cone_terms(d, cone, s, out));
         vals.iter_mut().for_each(|v| *v = 0.0);
         for (slots, part) in self.slots.iter().zip(&parts) {
