@@ -17,7 +17,7 @@
 //! so the normal matrix is a band of about 40 variables with two dense rows (γ², η), factored by
 //! QDLDL with its AMD ordering, and each entry tr(A_i M A_j M) is a sum over the two coefficient
 //! matrices' few nonzeros; before that, every sparse PSD block is split into its cliques by
-//! clarabel's own chordal decomposition (see [`solve`]), so the n³ work of a 16 × 16 block becomes
+//! clarabel's own chordal decomposition (see `solve`), so the n³ work of a 16 × 16 block becomes
 //! that of blocks of 10, 6 and 3. The cones' work (scalings, products, step lengths, the normal
 //! matrix's terms) runs in parallel, a cone's result depending on its own rows only and every sum
 //! over cones taken in a fixed order, so the result is the same bits on any number of threads. What
