@@ -37,8 +37,8 @@
 //! better point. A point short of `TOL` is returned only within clarabel's own AlmostSolved
 //! thresholds, and marked so (its objective error is then held to clarabel's reduced gap, in
 //! `conic`'s `minimize_own`); a decomposed program that ends otherwise is solved again as written,
-//! and anything else is an error, on which the design falls back to clarabel. The H2 designs (a = 0), whose optimum is approached as η → ∞ and not attained, end on
-//! the slow tail.
+//! and anything else is an error, on which the design falls back to clarabel. The H2 designs
+//! (a = 0), whose optimum is approached as η → ∞ and not attained, end on the slow tail.
 //!
 //! Whatever this solver returns is checked as clarabel's designs are
 //! (`families::anisotropic::synthesize_checked`): the exact norm of the filter and Theorem 1 with a
