@@ -18,4 +18,4 @@ pub use sampler::NoiseSampler;
 pub use sampler::{Stream, trial_rng};
 pub use shaping::{ShapeStep, Shaping};
 #[doc(hidden)]
-pub use ziggurat::{exp, ln, normal_lane, normal_rows, wedge, wedge_decisions};
+pub use ziggurat::{LAYERS, exp, ln, normal_lane, normal_rows, wedge, wedge_decisions};

@@ -94,6 +94,8 @@ pub struct LaneDraw {
     pub zeta: Vec<Row>,
     u: Vec<Row>,
     uj: Vec<Row>,
+    /// A Gaussian batch's rejected lanes, one word per row ([`ziggurat::normal_batch`]).
+    masks: Vec<u64>,
     xi: Vec<Row>,
     /// The shaping recursion's state and the next one.
     shape_m: Vec<Row>,
@@ -167,6 +169,7 @@ impl NoiseSampler {
             zeta: lanes::zeros(self.factors.len()),
             u: lanes::zeros(self.l0.ncols().max(self.lw.ncols())),
             uj: lanes::zeros(jd),
+            masks: vec![0; self.l0.ncols().max(self.lw.ncols()).max(jd)],
             xi: lanes::zeros(jd),
             shape_m: lanes::zeros(self.shaping.as_ref().map_or(0, Shaping::states)),
             shape_next: lanes::zeros(self.shaping.as_ref().map_or(0, Shaping::states)),
@@ -242,11 +245,11 @@ impl NoiseSampler {
         }
         if let Some(j) = &self.joint {
             match j {
-                JointInput::Correlated { .. } => unsafe { self.standard(&mut out.noise, active, &mut out.uj, build) },
+                JointInput::Correlated { .. } => unsafe {
+                    self.standard(&mut out.noise, active, &mut out.uj, &mut out.masks, build)
+                },
                 JointInput::Ellipsoid { .. } => {
-                    for r in out.uj.iter_mut() {
-                        unsafe { ziggurat::normal_row(&mut out.noise, r, build) };
-                    }
+                    unsafe { ziggurat::normal_batch(&mut out.noise, &mut out.uj, &mut out.masks, build) };
                     j.scale_lanes(&mut out.noise, active, &mut out.uj);
                 }
                 JointInput::Fixed { .. } => {}
@@ -262,26 +265,22 @@ impl NoiseSampler {
         }
         let u0 = &mut out.u[..self.l0.ncols()];
         // SAFETY: the caller guarantees `build`.
-        unsafe { self.standard(&mut out.noise, active, u0, build) };
+        unsafe { self.standard(&mut out.noise, active, u0, &mut out.masks, build) };
         lanes::gemm(&self.l0, u0, false, &mut out.x0);
         lanes::add_vector(1.0, self.m0.as_slice(), &mut out.x0);
     }
 
-    /// u\[i]\[l] i.i.d. of the shape, lane l from its noise stream (its row-0 value first): Gaussian
-    /// rows for all lanes at once, other shapes lane by lane.
+    /// u\[i]\[l] i.i.d. of the shape, lane l from its noise stream: Gaussian rows as one batch for
+    /// all lanes at once ([`ziggurat::normal_batch`]), other shapes lane by lane (row 0 first).
+    /// `masks` is the batch's scratch.
     ///
     /// # Safety
     /// The processor has `build`'s features.
     #[inline(always)]
-    unsafe fn standard(&self, rng: &mut LaneRng, active: usize, u: &mut [Row], build: Build) {
+    unsafe fn standard(&self, rng: &mut LaneRng, active: usize, u: &mut [Row], masks: &mut [u64], build: Build) {
         match self.draw {
-            StandardDraw::Gaussian => {
-                // A plain loop, not a closure: it stays inside the caller's vector build.
-                for r in u.iter_mut() {
-                    // SAFETY: the caller guarantees `build`.
-                    unsafe { ziggurat::normal_row(rng, r, build) };
-                }
-            }
+            // SAFETY: the caller guarantees `build`.
+            StandardDraw::Gaussian => unsafe { ziggurat::normal_batch(rng, u, masks, build) },
             _ => {
                 for l in 0..active {
                     self.draw.fill(&mut rng.lane(l), u.iter_mut().map(|row| &mut row[l]));
@@ -341,7 +340,7 @@ impl NoiseSampler {
             None => {
                 let u = &mut out.u[..self.lw.ncols()];
                 // SAFETY: the caller guarantees `build`.
-                unsafe { self.standard(&mut out.noise, active, u, build) };
+                unsafe { self.standard(&mut out.noise, active, u, &mut out.masks, build) };
                 lanes::apply(&self.lw, u, false, &mut out.w);
                 if let Some(m) = &self.w_mean {
                     lanes::add_vector(1.0, &m.as_slice()[k * m.nrows()..(k + 1) * m.nrows()], &mut out.w);

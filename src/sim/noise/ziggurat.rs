@@ -1,25 +1,34 @@
-//! Standard normal draws for a whole lane row at once (docs/math.md §7; docs/architecture.md,
-//! "Drawing"): Marsaglia and Tsang's 256-layer ziggurat (J. Stat. Softw. 5(8), 2000), in the form
-//! rand_distr uses — one u64 per try, its low 8 bits the layer i and its high 52 bits a uniform
-//! u ∈ [−1, 1), so the two are independent (Doornik's remark on ZIGNOR) — exact in distribution.
-//! The fast path (x = u·X\[i], accepted when |x| < X\[i+1], 98.8 % of tries) runs over every lane
-//! of the row as vector code; the lanes it rejects (about one in eighty) finish one by one on the
-//! scalar path, from their own streams. Each lane's value is therefore a function of its own
-//! stream only, and both paths use only IEEE-exact operations (no fused multiply–add), so the
-//! SSE2, AVX2 and AVX-512 builds give the same bits. On the scalar path a wedge try compares a
-//! uniform height with the density; two lines bounding the density on the wedge ([`Squeeze`])
-//! decide 99.6 % of those comparisons without the exponential, each the way the exponential would,
-//! so the squeeze changes no draw.
+//! Standard normal draws for a whole block of lanes at once (docs/math.md §7; docs/architecture.md,
+//! "Drawing"): Marsaglia and Tsang's ziggurat (J. Stat. Softw. 5(8), 2000) with [`LAYERS`] = 1024
+//! layers, in the form rand_distr uses — one u64 per try, its low 10 bits the layer i and its high
+//! 52 bits a uniform u ∈ [−1, 1), so the two are independent (Doornik's remark on ZIGNOR) — exact
+//! in distribution. A batch of rows (a step's noise, x0, a joint input) is drawn lane by lane as
+//! its tries first, one output of the lane's stream per row, then the rows whose try was rejected,
+//! in row order, from the outputs that follow. The fast path (x = u·X\[i], kept when
+//! |x| < X\[i+1], 99.57 % of tries) runs a chunk of lanes at a time over the whole batch with the
+//! chunk's generator state in registers; the rejected tries (about one in 230) finish one by one on
+//! the scalar path. Each lane's values are therefore a function of its own stream only, and both
+//! paths use only IEEE-exact operations (no fused multiply–add), so the SSE2, AVX2 and AVX-512
+//! builds give the same bits. On the scalar path a wedge try compares a uniform height with the
+//! density; two lines bounding the density on the wedge ([`Squeeze`]) decide 99.9 % of those
+//! comparisons without the exponential, each the way the exponential would, so the squeeze changes
+//! no draw.
 //!
-//! The tables are computed at compile time from the two constants of the paper, with exp, ln and
-//! sqrt written here from +, −, ×, ÷ alone: the same bits on every platform, whatever its libm.
+//! The tables are computed at compile time from the two constants r and v, with exp, ln and sqrt
+//! written here from +, −, ×, ÷ alone: the same bits on every platform, whatever its libm.
 
-use super::lane_rng::LaneRng;
+use super::lane_rng::{LaneRng, step_chunk};
 use crate::sim::lanes::{self, Build, LANES, Row};
 
-/// r, the start of the tail, and v, the area of each layer, for 256 layers (Marsaglia–Tsang 2000).
-const R: f64 = 3.654_152_885_361_008_8;
-const V: f64 = 0.004_928_673_233_99;
+/// The number of layers, picked by the low bits of a try.
+pub const LAYERS: usize = 1024;
+
+/// r, the start of the tail, and v, the area of each layer, for [`LAYERS`] layers: the solution of
+/// Marsaglia and Tsang's equations (the layers' edges from x₁ = r by x_{i+1} = f⁻¹(v/x_i + f(x_i)),
+/// v = r f(r) + ∫_r^∞ f, and the top layer's area x_{n−1}(1 − f(x_{n−1})) = v), solved to 60 digits
+/// by tools/ziggurat_constants.py (which also gives the paper's 256-layer r = 3.6541528853610088).
+const R: f64 = 4.038_849_846_109_504_5;
+const V: f64 = 0.001_226_324_646_353_088_1;
 
 const LN2_HI: f64 = 6.931_471_803_691_238_2e-1;
 const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
@@ -98,11 +107,13 @@ const fn pdf(x: f64) -> f64 {
 }
 
 /// X\[i], the right edge of layer i (X\[0] = v/f(r) for the base layer with its tail, X\[1] = r,
-/// X\[256] = 0), F\[i] = f(X\[i]), and each wedge's [`Squeeze`].
+/// X\[LAYERS] = 0), F\[i] = f(X\[i]), and each wedge's [`Squeeze`].
 struct Tables {
-    x: [f64; 257],
-    f: [f64; 257],
-    squeeze: [Squeeze; 256],
+    x: [f64; LAYERS + 1],
+    f: [f64; LAYERS + 1],
+    squeeze: [Squeeze; LAYERS],
+    /// (X\[i], X\[i+1]) side by side: the fast path's two values of layer i in one 16-byte load.
+    pair: [[f64; 2]; LAYERS],
 }
 
 /// Two lines bounding the density on wedge i, |x| ∈ \[X\[i+1], X\[i]], that decide most wedge tries
@@ -143,39 +154,50 @@ const fn squeeze(a: f64, b: f64, fa: f64, fb: f64) -> Squeeze {
 }
 
 const fn tables() -> Tables {
-    let mut x = [0.0; 257];
-    let mut f = [0.0; 257];
+    let mut x = [0.0; LAYERS + 1];
+    let mut f = [0.0; LAYERS + 1];
     x[0] = V / pdf(R);
     x[1] = R;
     let mut i = 2;
-    while i < 256 {
+    while i < LAYERS {
         x[i] = sqrt(-2.0 * ln(V / x[i - 1] + pdf(x[i - 1])));
         i += 1;
     }
     let mut i = 0;
-    while i < 257 {
+    while i <= LAYERS {
         f[i] = pdf(x[i]);
         i += 1;
     }
-    let mut squeeze_of = [NO_SQUEEZE; 256];
+    let mut squeeze_of = [NO_SQUEEZE; LAYERS];
     let mut i = 1;
-    while i < 256 {
+    while i < LAYERS {
         squeeze_of[i] = squeeze(x[i + 1], x[i], f[i + 1], f[i]);
         i += 1;
     }
-    Tables { x, f, squeeze: squeeze_of }
+    let mut pair = [[0.0; 2]; LAYERS];
+    let mut i = 0;
+    while i < LAYERS {
+        pair[i] = [x[i], x[i + 1]];
+        i += 1;
+    }
+    Tables { x, f, squeeze: squeeze_of, pair }
 }
 
 static TABLES: Tables = tables();
 
+/// The low bits of a try that pick its layer: below the 12 bits u leaves out, so i and u are
+/// independent.
+const LAYER_BITS: u64 = LAYERS as u64 - 1;
+const _: () = assert!(LAYERS.is_power_of_two() && LAYERS <= 1 << 12);
+
 /// The bits 2.0 has: or-ed with 52 random mantissa bits, a uniform double in [2, 4).
 const TWO: u64 = 0x4000_0000_0000_0000;
 
-/// One try's layer and x from its u64: i = the low 8 bits, u = the high 52 bits as a uniform in
+/// One try's layer and x from its u64: i = the low 10 bits, u = the high 52 bits as a uniform in
 /// [−1, 1), x = u X\[i].
 #[inline(always)]
 fn try_of(bits: u64) -> (usize, f64, f64) {
-    let i = (bits & 0xff) as usize;
+    let i = (bits & LAYER_BITS) as usize;
     let u = f64::from_bits((bits >> 12) | TWO) - 3.0;
     (i, u, u * TABLES.x[i])
 }
@@ -185,7 +207,7 @@ fn open01(bits: u64) -> f64 {
     f64::from_bits((bits >> 12) | 0x3FF0_0000_0000_0000) - (1.0 - f64::EPSILON / 2.0)
 }
 
-/// Whether height `y` of wedge i (1 ≤ i ≤ 255) at x is under the density, y < e^(−x²/2): decided
+/// Whether height `y` of wedge i (1 ≤ i < LAYERS) at x is under the density, y < e^(−x²/2): decided
 /// by the wedge's [`Squeeze`] where it can, by the exponential otherwise, with the same answer.
 #[inline(always)]
 fn wedge_accepts(i: usize, x: f64, y: f64) -> bool {
@@ -242,144 +264,183 @@ fn slow(rng: &mut LaneRng, lane: usize, mut bits: u64) -> f64 {
     }
 }
 
-/// Row `out` ← one standard normal per lane, each from its lane's stream: the fast path over the
-/// whole row (with the table lookups as vector gathers in the AVX2 and AVX-512 builds), then the
-/// rejected lanes one by one.
+/// Rows `out` ← one batch of standard normals per lane: lane l tries rows 0, 1, … with the next
+/// outputs of its stream, one each — the fast path, x = u X\[i] kept when |x| < X\[i+1] — and then
+/// finishes the rows whose try was rejected, in row order, from the outputs that follow ([`slow`]).
+/// A lane's values are a function of its own stream and of the batch's length only. The tries run
+/// a chunk of lanes at a time over all rows, the chunk's generator state in registers: 8 lanes in
+/// the AVX-512 build, 4 in AVX2, one in the baseline. `masks` (one word per row at least) is scratch.
 ///
 /// # Safety
 /// The processor has `build`'s features (the caller passes the build it runs in, which
 /// [`lanes::build`] chose; [`Build::Baseline`] is always safe).
 #[inline(always)]
-pub(crate) unsafe fn normal_row(rng: &mut LaneRng, out: &mut Row, build: Build) {
-    let mut bits = [0u64; LANES];
-    rng.next_row(&mut bits);
-    let rejected = match build {
+pub(crate) unsafe fn normal_batch(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64], build: Build) {
+    let masks = &mut masks[..out.len()];
+    masks.fill(0);
+    match build {
         // SAFETY: the caller guarantees the features.
         #[cfg(target_arch = "x86_64")]
-        Build::Avx512 => unsafe { fast_avx512(&bits, out) },
+        Build::Avx512 => unsafe { tries_avx512(rng, out, masks) },
         #[cfg(target_arch = "x86_64")]
-        Build::Avx2 => unsafe { fast_avx2(&bits, out) },
-        _ => fast(&bits, out),
-    };
-    // Each lane is rejected with p ≈ 1.2 %: most rows have none or one.
-    let mut word = rejected;
-    while word != 0 {
-        let l = word.trailing_zeros() as usize;
-        out[l] = slow(rng, l, bits[l]);
-        word &= word - 1;
-    }
-}
-
-/// One bit per lane of a row: the rejection mask of the fast path.
-const _: () = assert!(LANES == 64);
-
-/// The fast path over a row, lane by lane: x = u X\[i] into `out`, and the mask of the lanes
-/// whose |x| ≥ X\[i+1] (the ones [`slow`] must finish).
-#[inline(always)]
-fn fast(bits: &[u64; LANES], out: &mut Row) -> u64 {
-    let mut rejected = 0;
-    for (l, (o, &b)) in out.iter_mut().zip(bits).enumerate() {
-        let (i, _, x) = try_of(b);
-        *o = x;
-        rejected |= u64::from(x.abs() >= TABLES.x[i + 1]) << l;
-    }
-    rejected
-}
-
-/// [`fast`] eight lanes at a time with AVX-512 gathers: the same operations on the same values
-/// (a gather only loads), so the same bits and the same mask.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[inline]
-unsafe fn fast_avx512(bits: &[u64; LANES], out: &mut Row) -> u64 {
-    use std::arch::x86_64::*;
-    let (low, two, three) = (_mm512_set1_epi64(0xff), _mm512_set1_epi64(TWO as i64), _mm512_set1_pd(3.0));
-    let edges = TABLES.x.as_ptr();
-    let mut rejected = 0;
-    for c in 0..LANES / 8 {
-        // SAFETY: lanes 8c..8c+8 are in the row; i ≤ 255, so X[i] and X[i + 1] are in the table.
-        unsafe {
-            let b = _mm512_loadu_si512(bits.as_ptr().add(8 * c).cast());
-            let i = _mm512_and_si512(b, low);
-            let u = _mm512_sub_pd(_mm512_castsi512_pd(_mm512_or_si512(_mm512_srli_epi64::<12>(b), two)), three);
-            let x = _mm512_mul_pd(u, _mm512_i64gather_pd::<8>(i, edges));
-            _mm512_storeu_pd(out.as_mut_ptr().add(8 * c), x);
-            let next = _mm512_i64gather_pd::<8>(i, edges.add(1));
-            let m = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(_mm512_abs_pd(x), next);
-            rejected |= u64::from(m) << (8 * c);
+        Build::Avx2 => unsafe { tries_avx2(rng, out, masks) },
+        _ => {
+            for l in 0..LANES {
+                tries(rng, l, out, masks);
+            }
         }
     }
-    rejected
+    // Each try is rejected with p ≈ 1.5 %: most rows have no rejected lane.
+    for (row, &m) in out.iter_mut().zip(masks.iter()) {
+        let mut word = m;
+        while word != 0 {
+            let l = word.trailing_zeros() as usize;
+            row[l] = slow(rng, l, row[l].to_bits());
+            word &= word - 1;
+        }
+    }
 }
 
-/// [`fast`] four lanes at a time with AVX2 gathers (the same bits and mask).
+/// One bit per lane of a row: the rejection masks.
+const _: () = assert!(LANES <= 64);
+
+/// One lane's batch of normals on the scalar path alone: every try first, then [`slow`] on each in
+/// turn (which returns an accepted try as it is) — the values [`normal_rows`] gives that lane, by
+/// other code (tests check it).
+pub fn normal_lane(rng: &mut LaneRng, lane: usize, out: &mut [f64]) {
+    let tries: Vec<u64> = out.iter().map(|_| rng.next_lane(lane)).collect();
+    for (o, bits) in out.iter_mut().zip(tries) {
+        *o = slow(rng, lane, bits);
+    }
+}
+
+/// The fast path of lane `lane` over every row: each row's try from the next output of the lane's
+/// stream, x = u X\[i] into `out` where it is kept, else the try's bits (for [`slow`]), and the
+/// rejected rows' bit in `masks`. The AVX-512 and AVX2 kernels below do the same for 8 and 4 lanes at
+/// once.
+#[inline(always)]
+fn tries(rng: &mut LaneRng, lane: usize, out: &mut [Row], masks: &mut [u64]) {
+    let mut state = rng.chunk::<1>(lane);
+    for (row, mask) in out.iter_mut().zip(masks.iter_mut()) {
+        let [bits] = step_chunk(&mut state);
+        let (i, _, x) = try_of(bits);
+        let reject = x.abs() >= TABLES.x[i + 1];
+        row[lane] = if reject { f64::from_bits(bits) } else { x };
+        *mask |= u64::from(reject) << lane;
+    }
+    rng.set_chunk(lane, &state);
+}
+
+/// [`tries`] 8 lanes at a time: the xoshiro256++ step of [`step_chunk`] on one vector per state
+/// word, held in registers over all rows, and each lane's (X\[i], X\[i+1]) by a 16-byte load of its
+/// [`Tables::pair`], interleaved — AVX-512 gathers are microcoded on AMD's Zen 4, where they made
+/// the draw twice as slow. The same operations on the same values: the same bits and masks.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+#[inline]
+unsafe fn tries_avx512(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
+    use std::arch::x86_64::*;
+    let (low, two, three) = (_mm512_set1_epi64(LAYER_BITS as i64), _mm512_set1_epi64(TWO as i64), _mm512_set1_pd(3.0));
+    let mut index = [0u64; 8];
+    for c in (0..LANES).step_by(8) {
+        // SAFETY: the chunk's 8 lanes and the table's entries (i < LAYERS) are in bounds; the state
+        // arrays and the vectors have the same size.
+        unsafe {
+            let [mut a, mut b, mut s2, mut d]: [__m512i; 4] = std::mem::transmute(rng.chunk::<8>(c));
+            for (row, mask) in out.iter_mut().zip(masks.iter_mut()) {
+                let bits = _mm512_add_epi64(_mm512_rol_epi64::<23>(_mm512_add_epi64(a, d)), a);
+                let t = _mm512_slli_epi64::<17>(b);
+                s2 = _mm512_xor_si512(s2, a);
+                d = _mm512_xor_si512(d, b);
+                b = _mm512_xor_si512(b, s2);
+                a = _mm512_xor_si512(a, d);
+                s2 = _mm512_xor_si512(s2, t);
+                d = _mm512_rol_epi64::<45>(d);
+                _mm512_storeu_si512(index.as_mut_ptr().cast(), _mm512_and_si512(bits, low));
+                let p = |l: usize| _mm_loadu_pd(TABLES.pair[index[l] as usize].as_ptr());
+                let half = |l: usize, m: usize| _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(p(l)), p(m));
+                let even = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(half(0, 2)), half(4, 6));
+                let odd = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(half(1, 3)), half(5, 7));
+                let u = _mm512_sub_pd(_mm512_castsi512_pd(_mm512_or_si512(_mm512_srli_epi64::<12>(bits), two)), three);
+                let x = _mm512_mul_pd(u, _mm512_unpacklo_pd(even, odd));
+                let m = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(_mm512_abs_pd(x), _mm512_unpackhi_pd(even, odd));
+                let kept = _mm512_mask_blend_pd(m, x, _mm512_castsi512_pd(bits));
+                _mm512_storeu_pd(row.as_mut_ptr().add(c), kept);
+                *mask |= u64::from(m) << c;
+            }
+            rng.set_chunk::<8>(c, &std::mem::transmute::<[__m512i; 4], [[u64; 8]; 4]>([a, b, s2, d]));
+        }
+    }
+}
+
+/// [`tries_avx512`] 4 lanes at a time (AVX2 has no 64-bit rotate: shifts and an or).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn fast_avx2(bits: &[u64; LANES], out: &mut Row) -> u64 {
+unsafe fn tries_avx2(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
     use std::arch::x86_64::*;
-    let (low, two, three) = (_mm256_set1_epi64x(0xff), _mm256_set1_epi64x(TWO as i64), _mm256_set1_pd(3.0));
+    let (low, two, three) =
+        (_mm256_set1_epi64x(LAYER_BITS as i64), _mm256_set1_epi64x(TWO as i64), _mm256_set1_pd(3.0));
     let sign = _mm256_set1_pd(-0.0);
-    let edges = TABLES.x.as_ptr();
-    let mut rejected = 0;
-    for c in 0..LANES / 4 {
-        // SAFETY: lanes 4c..4c+4 are in the row; i ≤ 255, so X[i] and X[i + 1] are in the table.
+    let mut index = [0u64; 4];
+    for c in (0..LANES).step_by(4) {
+        // SAFETY: as in tries_avx512.
         unsafe {
-            let b = _mm256_loadu_si256(bits.as_ptr().add(4 * c).cast());
-            let i = _mm256_and_si256(b, low);
-            let u = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(b), two)), three);
-            let x = _mm256_mul_pd(u, _mm256_i64gather_pd::<8>(edges, i));
-            _mm256_storeu_pd(out.as_mut_ptr().add(4 * c), x);
-            let next = _mm256_i64gather_pd::<8>(edges.add(1), i);
-            let m = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(_mm256_andnot_pd(sign, x), next));
-            rejected |= (m as u64) << (4 * c);
+            let rotl23 = |v: __m256i| _mm256_or_si256(_mm256_slli_epi64::<23>(v), _mm256_srli_epi64::<41>(v));
+            let rotl45 = |v: __m256i| _mm256_or_si256(_mm256_slli_epi64::<45>(v), _mm256_srli_epi64::<19>(v));
+            let [mut a, mut b, mut s2, mut d]: [__m256i; 4] = std::mem::transmute(rng.chunk::<4>(c));
+            for (row, mask) in out.iter_mut().zip(masks.iter_mut()) {
+                let bits = _mm256_add_epi64(rotl23(_mm256_add_epi64(a, d)), a);
+                let t = _mm256_slli_epi64::<17>(b);
+                s2 = _mm256_xor_si256(s2, a);
+                d = _mm256_xor_si256(d, b);
+                b = _mm256_xor_si256(b, s2);
+                a = _mm256_xor_si256(a, d);
+                s2 = _mm256_xor_si256(s2, t);
+                d = rotl45(d);
+                _mm256_storeu_si256(index.as_mut_ptr().cast(), _mm256_and_si256(bits, low));
+                let p = |l: usize| _mm_loadu_pd(TABLES.pair[index[l] as usize].as_ptr());
+                let even = _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(p(0)), p(2));
+                let odd = _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(p(1)), p(3));
+                let u = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(bits), two)), three);
+                let x = _mm256_mul_pd(u, _mm256_unpacklo_pd(even, odd));
+                let reject = _mm256_cmp_pd::<_CMP_GE_OQ>(_mm256_andnot_pd(sign, x), _mm256_unpackhi_pd(even, odd));
+                let kept = _mm256_blendv_pd(x, _mm256_castsi256_pd(bits), reject);
+                _mm256_storeu_pd(row.as_mut_ptr().add(c), kept);
+                *mask |= (_mm256_movemask_pd(reject) as u64) << c;
+            }
+            rng.set_chunk::<4>(c, &std::mem::transmute::<[__m256i; 4], [[u64; 4]; 4]>([a, b, s2, d]));
         }
     }
-    rejected
 }
 
-/// One standard normal from lane `lane` alone, on the scalar path only: the same draw
-/// `normal_row` gives that lane (tests check it).
-pub fn normal_lane(rng: &mut LaneRng, lane: usize) -> f64 {
-    let b = rng.next_lane(lane);
-    slow(rng, lane, b)
-}
-
-/// Rows `out` ← standard normals, row after row (so each lane draws its row-0 value first), with
-/// the best vector build the processor has (the sampler calls `normal_row` from inside its own
-/// vector build instead).
+/// Rows `out` ← one batch of standard normals per lane ([`normal_batch`]), with the best vector
+/// build the processor has (the sampler calls `normal_batch` from inside its own vector build).
 pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
+    let mut masks = vec![0; out.len()];
     match lanes::build() {
         // SAFETY: build() names only a build whose features the processor has.
         #[cfg(target_arch = "x86_64")]
-        Build::Avx512 => unsafe { normal_rows_avx512(rng, out) },
+        Build::Avx512 => unsafe { normal_rows_avx512(rng, out, &mut masks) },
         #[cfg(target_arch = "x86_64")]
-        Build::Avx2 => unsafe { normal_rows_avx2(rng, out) },
-        _ => {
-            for r in out {
-                // SAFETY: the baseline build runs everywhere.
-                unsafe { normal_row(rng, r, Build::Baseline) };
-            }
-        }
+        Build::Avx2 => unsafe { normal_rows_avx2(rng, out, &mut masks) },
+        // SAFETY: the baseline build runs everywhere.
+        _ => unsafe { normal_batch(rng, out, &mut masks, Build::Baseline) },
     }
 }
 
 /// [`normal_rows`] compiled for AVX-512: eight lanes per instruction; the same bits as SSE2's.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-unsafe fn normal_rows_avx512(rng: &mut LaneRng, out: &mut [Row]) {
-    for r in out {
-        // SAFETY: this function runs only where the processor has AVX-512.
-        unsafe { normal_row(rng, r, Build::Avx512) };
-    }
+unsafe fn normal_rows_avx512(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
+    // SAFETY: this function runs only where the processor has AVX-512.
+    unsafe { normal_batch(rng, out, masks, Build::Avx512) }
 }
 
 /// [`normal_rows`] compiled for AVX2: four lanes per instruction; the same bits as SSE2's.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn normal_rows_avx2(rng: &mut LaneRng, out: &mut [Row]) {
-    for r in out {
-        // SAFETY: this function runs only where the processor has AVX2.
-        unsafe { normal_row(rng, r, Build::Avx2) };
-    }
+unsafe fn normal_rows_avx2(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
+    // SAFETY: this function runs only where the processor has AVX2.
+    unsafe { normal_batch(rng, out, masks, Build::Avx2) }
 }
