@@ -277,9 +277,9 @@ pub(crate) fn squared_norm_in<const C: usize>(e: &[Row], out: &mut Row) {
     }
 }
 
-/// eᵀ W e per lane (NEES and the per-trial ellipsoid checks): Σ_j Σ_i e_i W_ij e_j with j outer and
-/// i inner, each chunk of lanes summed in registers (the same order, so the same bits, as one
-/// pass over the whole row per entry).
+/// eᵀ W e per lane (NEES and the per-trial ellipsoid checks): Σ_j (W_jj e_j² + Σ_{i<j} (W_ij + W_ji)
+/// e_i e_j) with j outer and i inner — the form's own symmetric part, n(n+1)/2 terms instead of n² —
+/// each chunk of lanes summed in registers (the same order, so the same bits, in every build).
 #[inline(always)]
 pub fn quadratic(w: &Mat, e: &[Row], out: &mut Row) {
     quadratic_in::<CHUNK>(w, e, out)
@@ -292,8 +292,8 @@ pub(crate) fn quadratic_in<const C: usize>(w: &Mat, e: &[Row], out: &mut Row) {
         let mut acc = [0.0; C];
         for (j, ej) in e.iter().enumerate() {
             let ej: &[f64; C] = ej[c..c + C].try_into().expect("C divides LANES");
-            for (i, ei) in e.iter().enumerate() {
-                let a = w[(i, j)];
+            for (i, ei) in e.iter().enumerate().take(j + 1) {
+                let a = if i == j { w[(j, j)] } else { w[(i, j)] + w[(j, i)] };
                 if a != 0.0 {
                     let ei: &[f64; C] = ei[c..c + C].try_into().expect("C divides LANES");
                     for ((o, x), y) in acc.iter_mut().zip(ei).zip(ej) {

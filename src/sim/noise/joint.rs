@@ -1,8 +1,8 @@
 //! Inputs drawn jointly over the whole horizon (docs/math.md §7; seed 002 §2): ξ = col(x0 − E x0,
 //! w\[0..N−1]) with w\[N] = 0, either with a full (not white) covariance, uniformly on or inside the
 //! weighted ellipsoid ξᵀK⁻¹ξ ≤ 1, or fixed (a filter's worst case). The factor is computed once per
-//! scenario; a block of lanes draws into preallocated buffers, Gaussian rows a row of lanes at a
-//! time as every other input, and is mapped with one (triangular) product.
+//! scenario; a block of lanes draws into preallocated buffers, its Gaussian rows as one batch (the
+//! ziggurat's, as every other input's), and is mapped with one (triangular) product.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -2,8 +2,8 @@
 //! for k = 0..N, with u i.i.d. of the scenario's shape and L Lᵀ equal to the scenario's covariance
 //! (docs/math.md §7), then the plant's mode θ\[k] and its multiplicative factors ζ_i(k). Each lane draws its
 //! standardized scalars from its own trial's streams, all lanes' streams stepped together
-//! ([`LaneRng`]); Gaussian rows are drawn a row of lanes at a time ([`ziggurat::normal_rows`]),
-//! other shapes lane by lane from the same streams. The factors L are then applied to the whole
+//! ([`LaneRng`]); Gaussian rows are drawn a batch of rows for all lanes at once (a step's u\[k],
+//! [`ziggurat::normal_batch`]), other shapes lane by lane from the same streams. The factors L are then applied to the whole
 //! block with one product per step. Factors are computed once per scenario; a block draws into a
 //! preallocated [`LaneDraw`] and allocates nothing.
 
@@ -341,7 +341,12 @@ impl NoiseSampler {
                 let u = &mut out.u[..self.lw.ncols()];
                 // SAFETY: the caller guarantees `build`.
                 unsafe { self.standard(&mut out.noise, active, u, &mut out.masks, build) };
-                lanes::apply(&self.lw, u, false, &mut out.w);
+                // The simulation's lanes per pass in each build (the same bits either way).
+                if build == Build::Avx512 {
+                    lanes::apply_in::<{ lanes::WIDE_CHUNK }>(&self.lw, u, false, &mut out.w);
+                } else {
+                    lanes::apply(&self.lw, u, false, &mut out.w);
+                }
                 if let Some(m) = &self.w_mean {
                     lanes::add_vector(1.0, &m.as_slice()[k * m.nrows()..(k + 1) * m.nrows()], &mut out.w);
                 }

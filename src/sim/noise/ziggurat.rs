@@ -17,7 +17,7 @@
 //! The tables are computed at compile time from the two constants r and v, with exp, ln and sqrt
 //! written here from +, −, ×, ÷ alone: the same bits on every platform, whatever its libm.
 
-use super::lane_rng::{LaneRng, step_chunk};
+use super::lane_rng::LaneRng;
 use crate::sim::lanes::{self, Build, LANES, Row};
 
 /// The number of layers, picked by the low bits of a try.
@@ -284,11 +284,7 @@ pub(crate) unsafe fn normal_batch(rng: &mut LaneRng, out: &mut [Row], masks: &mu
         Build::Avx512 => unsafe { tries_avx512(rng, out, masks) },
         #[cfg(target_arch = "x86_64")]
         Build::Avx2 => unsafe { tries_avx2(rng, out, masks) },
-        _ => {
-            for l in 0..LANES {
-                tries(rng, l, out, masks);
-            }
-        }
+        _ => tries(rng, out, masks),
     }
     // Each try is rejected with p ≈ 1.5 %: most rows have no rejected lane.
     for (row, &m) in out.iter_mut().zip(masks.iter()) {
@@ -304,7 +300,7 @@ pub(crate) unsafe fn normal_batch(rng: &mut LaneRng, out: &mut [Row], masks: &mu
 /// One bit per lane of a row: the rejection masks.
 const _: () = assert!(LANES <= 64);
 
-/// One lane's batch of normals on the scalar path alone: every try first, then [`slow`] on each in
+/// One lane's batch of normals on the scalar path alone: every try first, then `slow` on each in
 /// turn (which returns an accepted try as it is) — the values [`normal_rows`] gives that lane, by
 /// other code (tests check it).
 pub fn normal_lane(rng: &mut LaneRng, lane: usize, out: &mut [f64]) {
@@ -314,24 +310,28 @@ pub fn normal_lane(rng: &mut LaneRng, lane: usize, out: &mut [f64]) {
     }
 }
 
-/// The fast path of lane `lane` over every row: each row's try from the next output of the lane's
-/// stream, x = u X\[i] into `out` where it is kept, else the try's bits (for [`slow`]), and the
-/// rejected rows' bit in `masks`. The AVX-512 and AVX2 kernels below do the same for 8 and 4 lanes at
-/// once.
+/// The fast path over every row: each row's try from the next output of each lane's stream (a
+/// whole row of lanes per step, [`LaneRng::next_row`]), x = u X\[i] into `out` where it is kept,
+/// else the try's bits (for [`slow`]), and the rejected lanes' bits in `masks`. The AVX-512 and
+/// AVX2 kernels below give the same values and masks with each chunk's state in registers; in the
+/// baseline build (two lanes per vector, scalar lookups) row by row measured faster.
 #[inline(always)]
-fn tries(rng: &mut LaneRng, lane: usize, out: &mut [Row], masks: &mut [u64]) {
-    let mut state = rng.chunk::<1>(lane);
+fn tries(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
+    let mut bits = [0u64; LANES];
     for (row, mask) in out.iter_mut().zip(masks.iter_mut()) {
-        let [bits] = step_chunk(&mut state);
-        let (i, _, x) = try_of(bits);
-        let reject = x.abs() >= TABLES.x[i + 1];
-        row[lane] = if reject { f64::from_bits(bits) } else { x };
-        *mask |= u64::from(reject) << lane;
+        rng.next_row(&mut bits);
+        let mut rejected = 0;
+        for (l, (o, &b)) in row.iter_mut().zip(&bits).enumerate() {
+            let (i, _, x) = try_of(b);
+            let reject = x.abs() >= TABLES.x[i + 1];
+            *o = if reject { f64::from_bits(b) } else { x };
+            rejected |= u64::from(reject) << l;
+        }
+        *mask = rejected;
     }
-    rng.set_chunk(lane, &state);
 }
 
-/// [`tries`] 8 lanes at a time: the xoshiro256++ step of [`step_chunk`] on one vector per state
+/// [`tries`] 8 lanes at a time: the xoshiro256++ step of [`super::lane_rng::step_chunk`] on one vector per state
 /// word, held in registers over all rows, and each lane's (X\[i], X\[i+1]) by a 16-byte load of its
 /// [`Tables::pair`], interleaved — AVX-512 gathers are microcoded on AMD's Zen 4, where they made
 /// the draw twice as slow. The same operations on the same values: the same bits and masks.
@@ -414,7 +414,7 @@ unsafe fn tries_avx2(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
     }
 }
 
-/// Rows `out` ← one batch of standard normals per lane ([`normal_batch`]), with the best vector
+/// Rows `out` ← one batch of standard normals per lane (`normal_batch`), with the best vector
 /// build the processor has (the sampler calls `normal_batch` from inside its own vector build).
 pub fn normal_rows(rng: &mut LaneRng, out: &mut [Row]) {
     let mut masks = vec![0; out.len()];
