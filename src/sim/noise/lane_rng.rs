@@ -53,7 +53,7 @@ impl LaneRng {
     }
 
     /// The state of lanes `first..first + W`, word by word, for a run of steps held in registers
-    /// ([`step_chunk`]).
+    /// (the ziggurat's vector kernels).
     #[inline(always)]
     pub(crate) fn chunk<const W: usize>(&self, first: usize) -> [[u64; W]; 4] {
         std::array::from_fn(|w| self.s[w][first..first + W].try_into().expect("a chunk inside the lanes"))
@@ -106,34 +106,21 @@ impl rand::TryRng for LaneStream<'_> {
 
 /// One xoshiro256++ step of lane `l` (Blackman–Vigna): inlined into [`LaneRng::next_row`]'s loop
 /// over the lanes, where the state's word-by-word layout lets it compile to vector instructions.
+/// The ziggurat's AVX-512 and AVX2 kernels repeat it with intrinsics on a chunk of lanes held in
+/// registers ([`LaneRng::chunk`]); tests check them against it lane by lane.
 #[inline(always)]
 fn step(s: &mut [[u64; LANES]; 4], l: usize) -> u64 {
-    let mut c = [[s[0][l]], [s[1][l]], [s[2][l]], [s[3][l]]];
-    let [out] = step_chunk(&mut c);
-    for (w, c) in s.iter_mut().zip(c) {
-        w[l] = c[0];
-    }
-    out
-}
-
-/// One xoshiro256++ step of each of W lanes whose state a caller holds ([`LaneRng::chunk`]): W = 8
-/// or 4 is one vector per word in the AVX-512 or AVX2 build, and each lane's outputs are those of
-/// its own stream, as from [`LaneRng::next_lane`].
-#[inline(always)]
-pub(crate) fn step_chunk<const W: usize>(s: &mut [[u64; W]; 4]) -> [u64; W] {
-    let mut out = [0; W];
-    for l in 0..W {
-        let (a, b, c, d) = (s[0][l], s[1][l], s[2][l], s[3][l]);
-        out[l] = a.wrapping_add(d).rotate_left(23).wrapping_add(a);
-        let t = b << 17;
-        let c = c ^ a;
-        let d = d ^ b;
-        let b = b ^ c;
-        let a = a ^ d;
-        s[0][l] = a;
-        s[1][l] = b;
-        s[2][l] = c ^ t;
-        s[3][l] = d.rotate_left(45);
-    }
+    let [s0, s1, s2, s3] = s;
+    let (a, b, c, d) = (s0[l], s1[l], s2[l], s3[l]);
+    let out = a.wrapping_add(d).rotate_left(23).wrapping_add(a);
+    let t = b << 17;
+    let c = c ^ a;
+    let d = d ^ b;
+    let b = b ^ c;
+    let a = a ^ d;
+    s0[l] = a;
+    s1[l] = b;
+    s2[l] = c ^ t;
+    s3[l] = d.rotate_left(45);
     out
 }

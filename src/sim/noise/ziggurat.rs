@@ -267,9 +267,10 @@ fn slow(rng: &mut LaneRng, lane: usize, mut bits: u64) -> f64 {
 /// Rows `out` ← one batch of standard normals per lane: lane l tries rows 0, 1, … with the next
 /// outputs of its stream, one each — the fast path, x = u X\[i] kept when |x| < X\[i+1] — and then
 /// finishes the rows whose try was rejected, in row order, from the outputs that follow ([`slow`]).
-/// A lane's values are a function of its own stream and of the batch's length only. The tries run
-/// a chunk of lanes at a time over all rows, the chunk's generator state in registers: 8 lanes in
-/// the AVX-512 build, 4 in AVX2, one in the baseline. `masks` (one word per row at least) is scratch.
+/// A lane's values are a function of its own stream and of the batch's length only. In the AVX-512
+/// and AVX2 builds the tries run a chunk of 8 or 4 lanes at a time over all rows, the chunk's
+/// generator state in registers; the baseline build runs them row by row ([`tries`]). `masks` (one
+/// word per row at least) is scratch.
 ///
 /// # Safety
 /// The processor has `build`'s features (the caller passes the build it runs in, which
@@ -331,7 +332,7 @@ fn tries(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
     }
 }
 
-/// [`tries`] 8 lanes at a time: the xoshiro256++ step of [`super::lane_rng::step_chunk`] on one vector per state
+/// [`tries`] 8 lanes at a time: the xoshiro256++ step of [`LaneRng::next_row`] on one vector per state
 /// word, held in registers over all rows, and each lane's (X\[i], X\[i+1]) by a 16-byte load of its
 /// [`Tables::pair`], interleaved — AVX-512 gathers are microcoded on AMD's Zen 4, where they made
 /// the draw twice as slow. The same operations on the same values: the same bits and masks.
