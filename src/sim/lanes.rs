@@ -247,10 +247,16 @@ pub fn difference(a: &[Row], b: &[Row], out: &mut [Row]) {
 /// with each mode's matrix when the lanes' modes differ.
 #[inline(always)]
 pub(crate) fn select(modes: &[u32; LANES], mode: u32, t: &[Row], add: bool, out: &mut [Row]) {
+    // A mask of the lanes' own width: the choice by a u32 beside f64 lanes compiled to a branch
+    // per lane, which the modes (random per lane) mispredict.
+    let mut keep = [0u64; LANES];
+    for (k, m) in keep.iter_mut().zip(modes) {
+        *k = if *m == mode { u64::MAX } else { 0 };
+    }
     for (o, r) in out.iter_mut().zip(t) {
-        for ((o, v), m) in o.iter_mut().zip(r).zip(modes) {
-            let keep = if add { *o + v } else { *v };
-            *o = if *m == mode { keep } else { *o };
+        for ((o, v), k) in o.iter_mut().zip(r).zip(&keep) {
+            let new = if add { *o + v } else { *v };
+            *o = f64::from_bits((new.to_bits() & k) | (o.to_bits() & !k));
         }
     }
 }
