@@ -17,6 +17,7 @@ use crate::model::shape::Shape;
 use crate::numerics::linalg::Mat;
 use crate::sim::montecarlo::{self, Partial, PlantOps, RatioCheck};
 use crate::sim::noise::JointInput;
+use crate::sim::stacked::Stacked;
 
 use rayon::prelude::*;
 
@@ -56,6 +57,7 @@ impl<'a> Engine<'a> {
         setup: &'s Setup,
         index: usize,
         forms: &'s [Option<ErrorForm>],
+        stacked: &'s [Option<Stacked>],
     ) -> montecarlo::Scenario<'s> {
         montecarlo::Scenario {
             plant: &self.exp.plant,
@@ -68,7 +70,13 @@ impl<'a> Engine<'a> {
             nees: &self.nees,
             nis: &self.nis,
             forms,
+            stacked,
         }
+    }
+
+    /// Each filter's steps stacked for the Monte Carlo ([`Stacked`]) in the coordinates of `forms`.
+    pub fn stacked(&self, forms: &[Option<ErrorForm>]) -> Vec<Option<Stacked>> {
+        self.reals.iter().zip(forms).map(|(r, f)| Stacked::new(&self.exp.plant, r, f.as_ref())).collect()
     }
 }
 
@@ -79,12 +87,13 @@ pub struct Prepared {
     pub setup: Setup,
     pub exact: Vec<ExactError>,
     pub forms: Vec<Option<ErrorForm>>,
+    pub stacked: Vec<Option<Stacked>>,
 }
 
 impl Prepared {
     /// The scenario as the Monte Carlo engine runs it.
     pub fn scenario<'s>(&'s self, engine: &'s Engine) -> crate::sim::montecarlo::Scenario<'s> {
-        engine.scenario(&self.setup, self.index, &self.forms)
+        engine.scenario(&self.setup, self.index, &self.forms, &self.stacked)
     }
 }
 

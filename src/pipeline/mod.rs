@@ -86,7 +86,8 @@ pub(crate) fn each_scenario<T>(
     for (index, cov) in covs.iter().enumerate() {
         let setup = scenarios::setup(exp, filters, index, cov)?;
         let (exact, forms) = evaluate::exact_errors(&engine, &setup)?;
-        out.push(each(&engine, Prepared { index, setup, exact, forms })?);
+        let stacked = engine.stacked(&forms);
+        out.push(each(&engine, Prepared { index, setup, exact, forms, stacked })?);
     }
     Ok(out)
 }

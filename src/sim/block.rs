@@ -11,6 +11,7 @@ use crate::numerics::linop::LinOp;
 use crate::sim::lanes::{self, LANES, Row};
 use crate::sim::noise::LaneDraw;
 use crate::sim::scenario::Scenario;
+use crate::sim::stacked::ModeLanes;
 
 /// Preallocated per-thread buffers: a block allocates nothing.
 pub(crate) struct Workspace {
@@ -25,6 +26,10 @@ pub(crate) struct Workspace {
     /// Each filter's state (or error state ε) at the current step.
     pub(super) s: Vec<Vec<Row>>,
     s_next: Vec<Vec<Row>>,
+    /// A stacked filter's product ([`crate::sim::stacked`]): its next state, then its output.
+    stacked_out: Vec<Vec<Row>>,
+    /// The lanes' modes at the current step, for the stacked products.
+    mode_lanes: ModeLanes,
     /// r\[k] in every lane.
     r: Vec<Row>,
     tmp: Vec<Row>,
@@ -49,6 +54,8 @@ impl Workspace {
             err: lanes::zeros(p.nz()),
             s: sc.filters.iter().map(|r| lanes::zeros(r.ns())).collect(),
             s_next: sc.filters.iter().map(|r| lanes::zeros(r.ns())).collect(),
+            stacked_out: (0..sc.filters.len()).map(|f| lanes::zeros(sc.stacked(f).map_or(0, |st| st.rows()))).collect(),
+            mode_lanes: ModeLanes::new(sc.ops.modes),
             r: lanes::zeros(p.nx()),
             tmp: lanes::zeros(wide),
             scratch: lanes::zeros(2 * wide),
@@ -81,8 +88,10 @@ impl Op<'_> {
 }
 
 /// out ← M_θ x (`add`: out + M_θ x), lane l using the matrix of its mode θ_l. One product when the
-/// matrix does not depend on the mode or every active lane is in the same mode; otherwise one
-/// product per mode, each kept where the lane is in that mode.
+/// matrix does not depend on the mode, or every active lane is in the same mode and nothing is
+/// added; otherwise one product per mode present, each kept (or added) where the lane is in that
+/// mode. With `add`, out + (M_θ x) is then one sum whatever the other lanes' modes, so a lane's
+/// result never depends on which lanes share its block.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn by_mode<'a, const C: usize>(
@@ -100,7 +109,7 @@ fn by_mode<'a, const C: usize>(
         return first.apply::<C>(x, add, out);
     }
     let m0 = modes[0];
-    if modes[..active].iter().all(|&m| m == m0) {
+    if !add && modes[..active].iter().all(|&m| m == m0) {
         return op(m0 as usize).apply::<C>(x, add, out);
     }
     let tmp = &mut tmp[..out.len()];
@@ -214,6 +223,7 @@ fn simulate_lanes<const C: usize>(
     }
     for k in 0..p.steps() {
         sc.sampler.step(k, &mut ws.draw);
+        ws.mode_lanes.update(&ws.draw.modes, active);
         let (draw, modes) = (&ws.draw, &ws.draw.modes);
         let w = &draw.w;
         by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.c(k, m)), &ws.x, false, &mut ws.y, &mut ws.tmp);
@@ -235,6 +245,43 @@ fn simulate_lanes<const C: usize>(
         }
         for (f, real) in sc.filters.iter().enumerate() {
             let form: Option<&ErrorForm> = sc.form(f);
+            if let Some(st) = sc.stacked(f) {
+                let (ns, input) = (st.ns(), if form.is_some() { w } else { &ws.y });
+                let segs: [&[Row]; 3] = [&ws.s[f], input, &ws.r];
+                let used = if r.is_some() && st.has_known_input() { 3 } else { 2 };
+                // The last step's next state is never used (nor are its gains Af, Bf, Gf).
+                let rows = if k < p.horizon { 0..st.rows() } else { ns..st.rows() };
+                let out = &mut ws.stacked_out[f];
+                st.product::<C>(k, rows.clone(), &segs[..used], &ws.mode_lanes, &mut out[rows]);
+                let output = &out[ns..];
+                let (e, zhat) = match form {
+                    None => {
+                        lanes::difference(&ws.z, output, &mut ws.err);
+                        (&ws.err[..], output)
+                    }
+                    Some(_) => {
+                        lanes::difference(&ws.z, output, &mut ws.zhat);
+                        (output, &ws.zhat[..])
+                    }
+                };
+                visit(StepView {
+                    k,
+                    f,
+                    z: &ws.z,
+                    zhat,
+                    e,
+                    energy: &ws.energy,
+                    modes,
+                    y: &ws.y,
+                    w,
+                    s: &ws.s[f],
+                    error_coordinates: form.is_some(),
+                });
+                if k < p.horizon {
+                    ws.s[f].copy_from_slice(&out[..ns]);
+                }
+                continue;
+            }
             let s = &ws.s[f];
             match form {
                 None => {

@@ -76,7 +76,7 @@ pub fn zeros(n: usize) -> Vec<Row> {
 
 /// Dense matrices with at least this many entries go through matrixmultiply (blocked, packed);
 /// smaller ones through the zero-skipping loop below, which has no packing cost.
-const BLOCKED_MIN_ENTRIES: usize = 4096;
+pub(crate) const BLOCKED_MIN_ENTRIES: usize = 4096;
 
 /// out ← M x (`add`: out ← out + M x) for a dense M, x with M.ncols() rows.
 #[inline(always)]
@@ -161,7 +161,7 @@ pub(crate) const WIDE_CHUNK: usize = LANES;
 
 /// acc ← acc + a·x over one chunk of lanes.
 #[inline(always)]
-fn madd<const C: usize>(a: f64, x: &[f64], acc: &mut [f64; C]) {
+pub(crate) fn madd<const C: usize>(a: f64, x: &[f64], acc: &mut [f64; C]) {
     let x: &[f64; C] = x.try_into().expect("a whole chunk");
     for (o, v) in acc.iter_mut().zip(x) {
         *o += a * v;

@@ -9,5 +9,6 @@ pub mod noise;
 mod plant_ops;
 pub mod scenario;
 pub mod series;
+pub mod stacked;
 pub mod stats;
 pub mod tree;

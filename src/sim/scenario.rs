@@ -9,6 +9,7 @@ use crate::model::plant::Plant;
 use crate::numerics::linalg::Mat;
 use crate::sim::noise::NoiseSampler;
 use crate::sim::plant_ops::PlantOps;
+use crate::sim::stacked::Stacked;
 use std::sync::Arc;
 
 /// What the engine needs to run one scenario.
@@ -30,6 +31,10 @@ pub struct Scenario<'a> {
     /// Per filter, its error form when it is simulated in error coordinates ε = s − M x (the plant's
     /// state is then never differenced); empty or None: the filter's own state s.
     pub forms: &'a [Option<ErrorForm>],
+    /// Per filter, its steps stacked into one product each ([`crate::sim::stacked`]), in the
+    /// coordinates of `forms`; None (or empty): a filter too large for it, whose five matrices are
+    /// applied one by one.
+    pub stacked: &'a [Option<Stacked>],
 }
 
 impl Scenario<'_> {
@@ -41,6 +46,9 @@ impl Scenario<'_> {
     }
     pub(super) fn form(&self, f: usize) -> Option<&ErrorForm> {
         self.forms.get(f).and_then(Option::as_ref)
+    }
+    pub(super) fn stacked(&self, f: usize) -> Option<&Stacked> {
+        self.stacked.get(f).and_then(Option::as_ref)
     }
 }
 

@@ -142,3 +142,53 @@ fn a_trial_draws_the_same_in_any_lane() {
     }
     assert_eq!(seen.len(), 2, "both modes occur, so the mode stream is exercised");
 }
+
+#[test]
+fn a_trial_gives_the_same_bits_whoever_shares_its_block() {
+    // Trials 64.. fill block 1 alone at 65, 66 and 70 trials and share it with the others at 128,
+    // so their lanes' modes agree at other steps. The mode-dependent predictor's gains differ per mode
+    // (dropouts) and it sees two measurements, so its products sum several terms that depend on
+    // the lane's mode: each lane must still take its own mode's sum, the one a block of lanes all
+    // in that mode computes.
+    let text = r#"description = "lanes"
+seed = 7
+trials = 100
+pattern = "prediction"
+
+[plant]
+horizon = 60
+noise_blocks = ["w"]
+A = [[0.9, 0.3], [-0.2, 0.8]]
+B = [[1.0, 0.0, 0.0, 0.0], [0.3, 1.0, 0.0, 0.0]]
+C = [[1.0, 0.0], [0.5, 1.0]]
+D = [[0.0, 0.0, 0.7, 0.0], [0.0, 0.0, 0.2, 0.6]]
+Cz = [[1.0, 0.0], [0.0, 1.0]]
+arrival = 0.6
+
+[nominal]
+x0 = [[1.0, 0.0], [0.0, 1.0]]
+w = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+
+[[filters]]
+name = "sees_dropouts"
+family = "markov_jump"
+
+[[scenarios]]
+name = "white"
+"#;
+    let exp = filterbench::config::parse("lanes", "t.toml", text).unwrap();
+    let run = |trials| {
+        let mut e = exp.clone();
+        e.trials = trials;
+        e.per_trial = true;
+        run_with(1, &e)
+    };
+    let long = run(128);
+    for short in [65, 66, 70] {
+        let (p, q) = (&run(short).scenarios[0].per_trial[0], &long.scenarios[0].per_trial[0]);
+        assert_eq!((p.len(), q.len()), (short as usize, 128));
+        for (t, (x, y)) in p.iter().zip(q).enumerate() {
+            assert_eq!(x.to_bits(), y.to_bits(), "trial {t} of {short}");
+        }
+    }
+}
