@@ -72,8 +72,9 @@ pub struct NoiseSampler {
     joint_widths: Vec<usize>,
     /// The joint input's recursion, where it has one that draws what its factor does.
     shaping: Option<Shaping>,
-    /// The Markov chain of the plant's modes (dropouts included).
-    chain: Option<Modes>,
+    /// The Markov chain of the plant's modes (dropouts included), as [`pick`] reads it: per mode
+    /// the cumulative sums of its transition row, then those of the initial distribution.
+    chain: Option<Vec<Vec<f64>>>,
     /// The multiplicative factors' ζ_i(k) (seed 003 (3.1)).
     factors: Vec<StandardDraw>,
 }
@@ -126,7 +127,7 @@ impl NoiseSampler {
             joint: None,
             joint_widths: Vec::new(),
             shaping: None,
-            chain: plant.modes().map(std::borrow::Cow::into_owned),
+            chain: plant.modes().map(|m| cumulative(&m)),
             factors: plant.factors.iter().map(|f| f.shape.sampler()).collect(),
         }
     }
@@ -353,14 +354,13 @@ impl NoiseSampler {
             }
         }
         if let Some(chain) = &self.chain {
-            for l in 0..active {
-                let r = &mut out.mode_rng.lane(l);
-                let th = &mut out.modes[l];
-                *th = if k == 0 {
-                    pick(r, chain.initial.iter().copied())
-                } else {
-                    pick(r, chain.transition.row(*th as usize).iter().copied())
-                };
+            // Every lane steps (those beyond `active` are never read): one row of the streams'
+            // outputs, then each lane's pick without a branch.
+            let mut x = [0; LANES];
+            out.mode_rng.next_row(&mut x);
+            let first = chain.len() - 1;
+            for (th, x) in out.modes.iter_mut().zip(&x) {
+                *th = pick(*x, &chain[if k == 0 { first } else { *th as usize }]);
             }
         }
         for (i, f) in self.factors.iter().enumerate() {
@@ -395,17 +395,28 @@ impl NoiseSampler {
     }
 }
 
-/// An index drawn with probabilities `p` (the last one takes any rounding shortfall).
-fn pick<R: rand::Rng + ?Sized>(rng: &mut R, p: impl Iterator<Item = f64>) -> u32 {
-    let u: f64 = rand::RngExt::random(rng);
-    let mut acc = 0.0;
-    let mut last = 0;
-    for (i, pi) in p.enumerate() {
-        acc += pi;
-        last = i as u32;
-        if u < acc {
-            return last;
-        }
-    }
-    last
+/// Per mode the cumulative sums of its row of the transition matrix, then those of the initial
+/// distribution, each summed in order as [`pick`]'s comparisons need them.
+fn cumulative(m: &Modes) -> Vec<Vec<f64>> {
+    let sums = |p: &mut dyn Iterator<Item = f64>| {
+        let mut acc = 0.0;
+        p.map(|v| {
+            acc += v;
+            acc
+        })
+        .collect()
+    };
+    let mut out: Vec<Vec<f64>> = m.transition.row_iter().map(|r| sums(&mut r.iter().copied())).collect();
+    out.push(sums(&mut m.initial.iter().copied()));
+    out
+}
+
+/// The index a stream's output `x` draws from the cumulative probabilities `cum`: the first i
+/// with u < cum\[i] for u = rand's uniform on [0, 1) from x (its 53 high bits), the last index when
+/// rounding leaves u above them all. The sums never decrease, so that index is the number of sums
+/// before the last that are ≤ u: a count instead of a branch per lane, the same index.
+#[inline(always)]
+fn pick(x: u64, cum: &[f64]) -> u32 {
+    let u = (x >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+    cum[..cum.len() - 1].iter().map(|&a| (a <= u) as u32).sum()
 }
