@@ -74,7 +74,8 @@ pub fn estimate(exp: &Experiment) -> Estimate {
             sets.saturating_mul(entries.saturating_mul(8).saturating_add(5 * MATRIX)).saturating_add(GAINS_STEP);
         let gains = steps.saturating_mul(per_step);
         // Its NEES and NIS weights per step, and a copy of its gains to project the output on
-        // (analysis::nees).
+        // (analysis::nees). The copy is temporary; while the Monte Carlo runs, the filter's stacked
+        // steps (sim::stacked, the same entries in one buffer) take its place.
         let weights = sat(&[steps, (nz * nz + ny * ny) * 8 + 2 * MATRIX]);
         design = design.saturating_add(gains).saturating_add(weights);
         copy = copy.saturating_add(gains);
