@@ -139,13 +139,14 @@ impl Stacked {
         let (off, per_mode) = self.steps[k];
         let size = self.rows * self.cols.iter().sum::<usize>();
         match (per_mode, lanes.uniform) {
-            (false, _) => one_mode::<C>(&self.data[off..off + size], self.rows, rows, segs, out),
+            (false, _) => sums::<C, false>(&self.data[off..off + size], size, self.rows, rows, segs, &[], out),
             (true, Some(m)) => {
-                one_mode::<C>(&self.data[off + m * size..off + (m + 1) * size], self.rows, rows, segs, out)
+                let block = &self.data[off + m * size..off + (m + 1) * size];
+                sums::<C, false>(block, size, self.rows, rows, segs, &[], out)
             }
             (true, None) => {
                 let blocks = &self.data[off..off + self.modes * size];
-                per_lane::<C>(blocks, size, self.rows, rows, segs, &lanes.masks, out)
+                sums::<C, true>(blocks, size, self.rows, rows, segs, &lanes.masks, out)
             }
         }
     }
@@ -179,33 +180,15 @@ impl ModeLanes {
     }
 }
 
-/// [`Stacked::product`] with one block for every lane.
+/// [`Stacked::product`]'s sums: one per output row `i` of `rows`, over the columns of `segs` in
+/// order, each column's entry at `at` (column-major, `nrows` rows) times its lanes, skipped where
+/// it is zero. With one block for every lane (`MIXED` false) that is `blocks`' entry; where the
+/// lanes' modes differ (`MIXED`), an entry equal in every mode's block the same way, and another
+/// one per lane, picked from its mode's block by the lane's mask and added only where it is not
+/// zero.
 #[inline(always)]
-fn one_mode<const C: usize>(a: &[f64], nrows: usize, rows: Range<usize>, segs: &[&[Row]], out: &mut [Row]) {
-    for c in (0..LANES).step_by(C) {
-        for (i, o) in rows.clone().zip(out.iter_mut()) {
-            let mut acc = [0.0; C];
-            let mut at = i;
-            for seg in segs {
-                for xj in seg.iter() {
-                    let v = a[at];
-                    if v != 0.0 {
-                        lanes::madd(v, &xj[c..c + C], &mut acc);
-                    }
-                    at += nrows;
-                }
-            }
-            let o: &mut [f64; C] = (&mut o[c..c + C]).try_into().expect("C divides LANES");
-            *o = acc;
-        }
-    }
-}
-
-/// [`Stacked::product`] where the lanes' modes differ: an entry equal in every mode as in
-/// [`one_mode`]; another one per lane, picked from its mode's block by the lane's mask, and added
-/// only where it is not zero.
-#[inline(always)]
-fn per_lane<const C: usize>(
+#[allow(clippy::too_many_arguments)]
+fn sums<const C: usize, const MIXED: bool>(
     blocks: &[f64],
     size: usize,
     nrows: usize,
@@ -222,11 +205,12 @@ fn per_lane<const C: usize>(
             for seg in segs {
                 for xj in seg.iter() {
                     let v0 = blocks[at];
-                    if (1..modes).all(|m| blocks[m * size + at].to_bits() == v0.to_bits()) {
+                    if !MIXED || (1..modes).all(|m| blocks[m * size + at].to_bits() == v0.to_bits()) {
                         if v0 != 0.0 {
                             lanes::madd(v0, &xj[c..c + C], &mut acc);
                         }
                     } else {
+                        // Every lane starts from mode 0's entry; each later mode's mask puts its own in.
                         let mut coef = [v0; C];
                         for (m, mask) in masks.iter().enumerate().skip(1) {
                             let vm = blocks[m * size + at].to_bits();
