@@ -40,7 +40,7 @@ pub struct Stacked {
 
 impl Stacked {
     /// The stacked steps of `real`, in error coordinates when `form` is given; None when one of its
-    /// matrices is large enough for [`lanes::gemm`]'s blocked product, whose order of summation
+    /// matrices is large enough for the blocked product of `lanes::gemm`, whose order of summation
     /// this one would not reproduce (the engine then applies the five matrices one by one).
     pub fn new(plant: &Plant, real: &Realization, form: Option<&ErrorForm>) -> Option<Self> {
         let modes = plant.n_modes();
