@@ -41,6 +41,21 @@ pub struct Estimate {
     pub dense_bytes: u64,
 }
 
+/// The most memory the error forms of a run's filters may take for the Monte Carlo to carry every
+/// filter in error coordinates when it need not (`pipeline::evaluate`, without the plant): a form
+/// holds five matrices per step and mode, which on a long horizon with time-varying gains would
+/// double the gains' memory to save a few products a step.
+pub(crate) const PLANT_FREE_BYTES: u64 = 64 << 20;
+
+/// Bytes of a filter's error form (`analysis::exact::ErrorForm`): per step and mode its five
+/// matrices F, E, H, G, R and their vector of factor terms.
+pub(crate) fn error_form_bytes(p: &crate::model::plant::Plant, ns: usize) -> u64 {
+    let (ns, nx, nz, nw) = (ns as u64, p.nx() as u64, p.nz() as u64, p.nw() as u64);
+    let entries = [ns * ns, ns * nw, nz * ns, nz * nw, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
+    let per_step = entries.saturating_mul(8).saturating_add(5 * MATRIX + 24);
+    sat(&[p.steps() as u64, p.n_modes().max(1) as u64, per_step])
+}
+
 fn sat(xs: &[u64]) -> u64 {
     xs.iter().fold(1u64, |a, &x| a.saturating_mul(x))
 }
@@ -63,7 +78,7 @@ pub fn estimate(exp: &Experiment) -> Estimate {
     // Each family states its filter's state size and gain sets ([`crate::families::Footprint`]).
     let size = crate::families::PlantSize { nx: p.nx(), modes: p.n_modes().max(1) };
     let footprints: Vec<_> = exp.filters.iter().map(|f| f.configured.footprint(size)).collect();
-    let (mut design, mut copy) = (0u64, 0u64);
+    let (mut design, mut copy, mut forms) = (0u64, 0u64, 0u64);
     for fp in &footprints {
         let (ns, sets) = (fp.state as u64, fp.gain_sets as u64);
         let entries = [ns * ns, ns * ny, nz * ns, nz * ny, ns * nx].iter().fold(0u64, |a, &x| a.saturating_add(x));
@@ -78,9 +93,12 @@ pub fn estimate(exp: &Experiment) -> Estimate {
         // steps (sim::stacked, the same entries in one buffer) take its place.
         let weights = sat(&[steps, (nz * nz + ny * ny) * 8 + 2 * MATRIX]);
         design = design.saturating_add(gains).saturating_add(weights);
+        // Its error form, which the Monte Carlo may hold when it goes without the plant
+        // ([`PLANT_FREE_BYTES`] for all filters together).
+        forms = forms.saturating_add(error_form_bytes(p, fp.state));
         copy = copy.saturating_add(gains);
     }
-    let design = design.saturating_add(copy);
+    let design = design.saturating_add(copy).saturating_add(forms.min(PLANT_FREE_BYTES));
     // Monte Carlo accumulators alive at once per scenario: a wave of blocks and the tree's nodes
     // (one per level; the total is the first of them, `sim::tree`), each per (filter, step) for the
     // mean-square error, NEES and NIS.

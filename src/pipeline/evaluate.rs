@@ -21,6 +21,7 @@ use crate::sim::stacked::Stacked;
 
 use rayon::prelude::*;
 
+use super::budget;
 use super::design::DesignedFilter;
 use super::outcome::{Evaluated, FilterOutcome, ScenarioOutcome};
 use super::scenarios::Setup;
@@ -35,16 +36,33 @@ pub struct Engine<'a> {
     pub ratios: Option<RatioCheck<'a>>,
     pub nees: Vec<Option<&'a [Option<Arc<Mat>>]>>,
     pub nis: Vec<Option<&'a [Option<Arc<Mat>>]>>,
+    /// Every filter may be simulated in error coordinates, without the plant: no per-trial ratio
+    /// check and the forms fit the memory set aside for them. Each scenario still checks that
+    /// every filter has an error form.
+    pub plant_free: bool,
+}
+
+/// Whether the Monte Carlo may simulate every filter in error coordinates ε = s − M x (docs/math.md
+/// §0), where a trial's error e = H ε + G w needs none of the plant's x, y and z, so the engine skips
+/// the plant's products ([`crate::sim::block::simulate`]): no per-trial ratio check reads x\[N], and
+/// the forms fit in [`budget::PLANT_FREE_BYTES`]. The error is the same number computed in other
+/// coordinates, so only its rounding changes.
+fn plant_free(exp: &Experiment, reals: &[&Realization], ratios: Option<&RatioCheck>) -> bool {
+    let bytes = reals.iter().fold(0u64, |a, r| a.saturating_add(budget::error_form_bytes(&exp.plant, r.ns())));
+    ratios.is_none() && bytes <= budget::PLANT_FREE_BYTES
 }
 
 impl<'a> Engine<'a> {
     pub fn new(exp: &'a Experiment, filters: &'a [DesignedFilter]) -> Self {
+        let reals: Vec<_> = filters.iter().map(|f| &f.design.realization).collect();
+        let (ops, ratios) = (PlantOps::new(&exp.plant), ratio_check(exp, filters));
         Engine {
             exp,
             filters,
-            reals: filters.iter().map(|f| &f.design.realization).collect(),
-            ops: PlantOps::new(&exp.plant),
-            ratios: ratio_check(exp, filters),
+            plant_free: plant_free(exp, &reals, ratios.as_ref()),
+            reals,
+            ops,
+            ratios,
             nees: filters.iter().map(|f| f.nees.as_ref().map(|n| &n.weights[..])).collect(),
             nis: filters.iter().map(|f| f.nis.as_ref().map(|n| &n.weights[..])).collect(),
         }
@@ -107,8 +125,9 @@ fn exact_of(p: &Plant, r: &Realization, setup: &Setup) -> Result<ExactError> {
 }
 
 /// Every filter's exact error in a scenario, each refused if double precision cannot resolve it,
-/// and the error form of those resolved only in error coordinates, which the Monte Carlo then
-/// simulates in them too.
+/// and the error forms the Monte Carlo simulates in: every filter's where all have one and the
+/// engine may go without the plant ([`Engine::plant_free`]), else those of the filters resolved
+/// only in error coordinates.
 pub(crate) fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactError>, Vec<Option<ErrorForm>>)> {
     let exp = engine.exp;
     // One filter per task: the recursions are independent, and between two scenarios' Monte Carlo
@@ -125,7 +144,14 @@ pub(crate) fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactE
             Ok((e, form))
         })
         .collect::<Vec<Result<_>>>();
-    each.into_iter().collect::<Result<Vec<_>>>().map(|v| v.into_iter().unzip())
+    let (exact, forms): (Vec<_>, Vec<_>) = each.into_iter().collect::<Result<Vec<_>>>()?.into_iter().unzip();
+    if engine.plant_free {
+        let all: Option<Vec<_>> = engine.reals.par_iter().map(|r| exact::error_form(&exp.plant, r).ok()).collect();
+        if let Some(all) = all {
+            return Ok((exact, all.into_iter().map(Some).collect()));
+        }
+    }
+    Ok((exact, forms))
 }
 
 /// Where a run's Monte Carlo statistics come from, chosen once by the command.

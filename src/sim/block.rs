@@ -142,21 +142,28 @@ fn add_factors<const C: usize>(
     }
 }
 
+/// The plant's side of step k: the truth, filter f's estimate of it, and the measurement.
+pub(crate) struct Outputs<'a> {
+    pub z: &'a [Row],
+    pub zhat: &'a [Row],
+    /// y\[k] (a filter's innovation in its own coordinates, [`crate::analysis::nees`]).
+    pub y: &'a [Row],
+}
+
 /// What the engine shows of step k and filter f, over the block's lanes.
 pub(crate) struct StepView<'a> {
     pub k: usize,
     pub f: usize,
-    pub z: &'a [Row],
-    pub zhat: &'a [Row],
     /// e = z − ẑ.
     pub e: &'a [Row],
+    /// z, ẑ and y, None when the plant was not simulated (see [`simulate`]).
+    pub outputs: Option<Outputs<'a>>,
     /// The lanes' input energy E_k before w\[k] (maintained only with per-trial checks).
     pub energy: &'a Row,
     /// θ\[k] per lane.
     pub modes: &'a [u32; LANES],
-    /// y\[k], w\[k] and the filter's state s\[k], or its error state ε = s − M x when
+    /// w\[k] and the filter's state s\[k], or its error state ε = s − M x when
     /// `error_coordinates` (for the innovation, [`crate::analysis::nees`]).
-    pub y: &'a [Row],
     pub w: &'a [Row],
     pub s: &'a [Row],
     pub error_coordinates: bool,
@@ -164,32 +171,57 @@ pub(crate) struct StepView<'a> {
 
 /// Simulates trials first..first+active in the lanes of `ws` and calls `visit` for each step k and
 /// filter f. A filter with an error form carries ε = s − M x instead of s and
-/// gets e from ε and w directly; its ẑ is then z − e, for display only. On return `ws` holds
-/// x\[N] and every filter's final state.
-pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
+/// gets e from ε and w directly; its ẑ is then z − e, for display only. When every filter has an
+/// error form and nothing reads x\[N] ([`Scenario::errors_alone`]) and the caller does not ask for
+/// the `outputs`, the plant's x, y and z are not simulated at all: a trial's errors are the same
+/// bits without them, at a fraction of the products. Otherwise on return `ws` holds x\[N]; it
+/// always holds every filter's final state.
+pub(crate) fn simulate(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    first: u64,
+    active: usize,
+    outputs: bool,
+    visit: impl FnMut(StepView),
+) {
+    let plant = outputs || !sc.errors_alone();
     match lanes::build() {
         // SAFETY: build() names only a build whose features the processor has.
         #[cfg(target_arch = "x86_64")]
-        lanes::Build::Avx512 => unsafe { simulate_avx512(sc, ws, first, active, visit) },
+        lanes::Build::Avx512 => unsafe { simulate_avx512(sc, ws, first, active, plant, visit) },
         #[cfg(target_arch = "x86_64")]
-        lanes::Build::Avx2 => unsafe { simulate_avx2(sc, ws, first, active, visit) },
-        _ => simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, visit),
+        lanes::Build::Avx2 => unsafe { simulate_avx2(sc, ws, first, active, plant, visit) },
+        _ => simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, plant, visit),
     }
 }
 
 /// [`simulate`] compiled for AVX-512: eight lanes per instruction, the same bits.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-unsafe fn simulate_avx512(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
-    simulate_lanes::<{ lanes::WIDE_CHUNK }>(sc, ws, first, active, visit)
+unsafe fn simulate_avx512(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    first: u64,
+    active: usize,
+    plant: bool,
+    visit: impl FnMut(StepView),
+) {
+    simulate_lanes::<{ lanes::WIDE_CHUNK }>(sc, ws, first, active, plant, visit)
 }
 
 /// [`simulate`] compiled for AVX2: four lanes per instruction instead of SSE2's two. Rust never
 /// fuses a·b + c, so each lane's arithmetic, and every figure, is the same bits either way.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn simulate_avx2(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
-    simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, visit)
+unsafe fn simulate_avx2(
+    sc: &Scenario,
+    ws: &mut Workspace,
+    first: u64,
+    active: usize,
+    plant: bool,
+    visit: impl FnMut(StepView),
+) {
+    simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, plant, visit)
 }
 
 #[inline(always)]
@@ -198,6 +230,7 @@ fn simulate_lanes<const C: usize>(
     ws: &mut Workspace,
     first: u64,
     active: usize,
+    plant: bool,
     mut visit: impl FnMut(StepView),
 ) {
     let p = sc.plant;
@@ -226,11 +259,13 @@ fn simulate_lanes<const C: usize>(
         ws.mode_lanes.update(&ws.draw.modes, active);
         let (draw, modes) = (&ws.draw, &ws.draw.modes);
         let w = &draw.w;
-        by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.c(k, m)), &ws.x, false, &mut ws.y, &mut ws.tmp);
-        by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.d(k, m)), w, true, &mut ws.y, &mut ws.tmp);
-        lanes::apply_in::<C>(&ops.ops[ops.cz[k]], &ws.x, false, &mut ws.z);
-        lanes::apply_in::<C>(&ops.ops[ops.dz[k]], w, true, &mut ws.z);
-        if !ops.factors.is_empty() {
+        if plant {
+            by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.c(k, m)), &ws.x, false, &mut ws.y, &mut ws.tmp);
+            by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.d(k, m)), w, true, &mut ws.y, &mut ws.tmp);
+            lanes::apply_in::<C>(&ops.ops[ops.cz[k]], &ws.x, false, &mut ws.z);
+            lanes::apply_in::<C>(&ops.ops[ops.dz[k]], w, true, &mut ws.z);
+        }
+        if plant && !ops.factors.is_empty() {
             let zeta = &draw.zeta;
             add_factors::<C>(sc, 2, k, zeta, &ws.x, &mut ws.y, &mut ws.tmp);
             add_factors::<C>(sc, 3, k, zeta, w, &mut ws.y, &mut ws.tmp);
@@ -260,19 +295,19 @@ fn simulate_lanes<const C: usize>(
                         (&ws.err[..], output)
                     }
                     Some(_) => {
-                        lanes::difference(&ws.z, output, &mut ws.zhat);
+                        if plant {
+                            lanes::difference(&ws.z, output, &mut ws.zhat);
+                        }
                         (output, &ws.zhat[..])
                     }
                 };
                 visit(StepView {
                     k,
                     f,
-                    z: &ws.z,
-                    zhat,
                     e,
+                    outputs: plant.then_some(Outputs { z: &ws.z, zhat, y: &ws.y }),
                     energy: &ws.energy,
                     modes,
-                    y: &ws.y,
                     w,
                     s: &ws.s[f],
                     error_coordinates: form.is_some(),
@@ -294,19 +329,19 @@ fn simulate_lanes<const C: usize>(
                     let a = |m: usize| &fm.steps[k][m];
                     by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).h), s, false, &mut ws.err, &mut ws.tmp);
                     by_mode::<C>(modes, active, nm, |m| Op::Dense(&a(m).g), w, true, &mut ws.err, &mut ws.tmp);
-                    lanes::difference(&ws.z, &ws.err, &mut ws.zhat);
+                    if plant {
+                        lanes::difference(&ws.z, &ws.err, &mut ws.zhat);
+                    }
                 }
             }
-            let (y, error_coordinates) = (&ws.y, form.is_some());
+            let error_coordinates = form.is_some();
             visit(StepView {
                 k,
                 f,
-                z: &ws.z,
-                zhat: &ws.zhat,
                 e: &ws.err,
+                outputs: plant.then_some(Outputs { z: &ws.z, zhat: &ws.zhat, y: &ws.y }),
                 energy: &ws.energy,
                 modes,
-                y,
                 w,
                 s,
                 error_coordinates,
@@ -334,7 +369,7 @@ fn simulate_lanes<const C: usize>(
                 std::mem::swap(&mut ws.s[f], &mut ws.s_next[f]);
             }
         }
-        if k < p.horizon {
+        if plant && k < p.horizon {
             by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.a(k, m)), &ws.x, false, &mut ws.x_next, &mut ws.tmp);
             by_mode::<C>(modes, active, nm, |m| Op::Lin(ops.b(k, m)), w, true, &mut ws.x_next, &mut ws.tmp);
             if !ops.factors.is_empty() {

@@ -51,6 +51,7 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
         ws,
         first,
         active,
+        false,
         #[inline(always)]
         |v| {
             let (k, f, e) = (v.k, v.f, v.e);
@@ -105,10 +106,10 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
 #[inline(always)]
 fn innovation<const C: usize>(sc: &Scenario, v: &StepView, nu: &mut [Row], tmp: &mut [Row]) {
     let (c, d) = (sc.ops.c(v.k, 0), sc.ops.d(v.k, 0));
-    if v.error_coordinates {
-        lanes::apply_in::<C>(d, v.w, false, nu);
-    } else {
-        nu.copy_from_slice(v.y);
+    match (v.error_coordinates, &v.outputs) {
+        (true, _) => lanes::apply_in::<C>(d, v.w, false, nu),
+        (false, Some(o)) => nu.copy_from_slice(o.y),
+        (false, None) => unreachable!("a filter in its own coordinates always has the plant simulated"),
     }
     lanes::apply_in::<C>(c, v.s, false, tmp);
     lanes::subtract(tmp, nu);
@@ -228,13 +229,14 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
         })
         .collect();
     for (b, block) in out.chunks_mut(LANES).enumerate() {
-        simulate(sc, &mut ws, b as u64 * BLOCK, block.len(), |v| {
+        simulate(sc, &mut ws, b as u64 * BLOCK, block.len(), true, |v| {
+            let Some(o) = &v.outputs else { unreachable!("outputs asked for") };
             for (l, tr) in block.iter_mut().enumerate() {
                 for i in 0..nz {
                     if v.f == 0 {
-                        tr.z[(i, v.k)] = v.z[i][l];
+                        tr.z[(i, v.k)] = o.z[i][l];
                     }
-                    tr.zhat[v.f][(i, v.k)] = v.zhat[i][l];
+                    tr.zhat[v.f][(i, v.k)] = o.zhat[i][l];
                 }
                 tr.modes[v.k] = v.modes[l];
             }

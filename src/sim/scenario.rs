@@ -50,6 +50,12 @@ impl Scenario<'_> {
     pub(super) fn stacked(&self, f: usize) -> Option<&Stacked> {
         self.stacked.get(f).and_then(Option::as_ref)
     }
+    /// Whether the statistics need nothing of the plant's x, y and z: every filter runs in error
+    /// coordinates, where e comes from ε and w alone, and no per-trial check reads x\[N]. The
+    /// engine then skips the plant's products (the same bits for every statistic).
+    pub(super) fn errors_alone(&self) -> bool {
+        self.ratios.is_none() && (0..self.filters.len()).all(|f| self.form(f).is_some())
+    }
 }
 
 /// The weights of the input energy (R⁻¹ for x0 − E x0, G⁻¹ for w\[k], k < N) and, per filter, its
