@@ -58,7 +58,7 @@ fn scenario(sc: &Scenario, name: &str, trials: u64) -> String {
     let mut sink = 0.0;
     let t = Instant::now();
     for (first, active) in blocks() {
-        block::simulate(sc, &mut ws, first, active, false, |v| sink += v.e[0][0]);
+        block::simulate(sc, &mut ws, first, active, |v| sink += v.e[0][0]);
     }
     let sim = t.elapsed().as_secs_f64();
     std::hint::black_box(sink);

@@ -37,6 +37,8 @@ pub(crate) struct Workspace {
     pub(super) scratch: Vec<Row>,
     /// Input energy E_k of each lane so far (seed 002's per-trial checks).
     pub(super) energy: Row,
+    /// The visits read z, ẑ and y (the sample trajectories): the plant is always simulated.
+    outputs: bool,
 }
 
 impl Workspace {
@@ -60,7 +62,13 @@ impl Workspace {
             tmp: lanes::zeros(wide),
             scratch: lanes::zeros(2 * wide),
             energy: [0.0; LANES],
+            outputs: false,
         }
+    }
+
+    /// A workspace whose visits get z, ẑ and y ([`StepView::outputs`]) whatever the scenario needs.
+    pub fn with_outputs(sc: &Scenario) -> Self {
+        Workspace { outputs: true, ..Workspace::new(sc) }
     }
 }
 
@@ -170,58 +178,36 @@ pub(crate) struct StepView<'a> {
 }
 
 /// Simulates trials first..first+active in the lanes of `ws` and calls `visit` for each step k and
-/// filter f. A filter with an error form carries ε = s − M x instead of s and
-/// gets e from ε and w directly; its ẑ is then z − e, for display only. When every filter has an
-/// error form and nothing reads x\[N] ([`Scenario::errors_alone`]) and the caller does not ask for
-/// the `outputs`, the plant's x, y and z are not simulated at all: a trial's errors are the same
-/// bits without them, at a fraction of the products. Otherwise on return `ws` holds x\[N]; it
-/// always holds every filter's final state.
-pub(crate) fn simulate(
-    sc: &Scenario,
-    ws: &mut Workspace,
-    first: u64,
-    active: usize,
-    outputs: bool,
-    visit: impl FnMut(StepView),
-) {
-    let plant = outputs || !sc.errors_alone();
+/// filter f. A filter with an error form carries ε = s − M x instead of s and gets e from ε and w
+/// directly; its ẑ is then z − e, for display only. When every filter has an error form, nothing
+/// reads x\[N] ([`Scenario::errors_alone`]) and the workspace was not made
+/// [`Workspace::with_outputs`], the plant's x, y and z are not simulated at all: the errors need
+/// none of them, and are the same bits either way. Otherwise on return `ws` holds x\[N]; it always
+/// holds every filter's final state.
+pub(crate) fn simulate(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
     match lanes::build() {
         // SAFETY: build() names only a build whose features the processor has.
         #[cfg(target_arch = "x86_64")]
-        lanes::Build::Avx512 => unsafe { simulate_avx512(sc, ws, first, active, plant, visit) },
+        lanes::Build::Avx512 => unsafe { simulate_avx512(sc, ws, first, active, visit) },
         #[cfg(target_arch = "x86_64")]
-        lanes::Build::Avx2 => unsafe { simulate_avx2(sc, ws, first, active, plant, visit) },
-        _ => simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, plant, visit),
+        lanes::Build::Avx2 => unsafe { simulate_avx2(sc, ws, first, active, visit) },
+        _ => simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, visit),
     }
 }
 
 /// [`simulate`] compiled for AVX-512: eight lanes per instruction, the same bits.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-unsafe fn simulate_avx512(
-    sc: &Scenario,
-    ws: &mut Workspace,
-    first: u64,
-    active: usize,
-    plant: bool,
-    visit: impl FnMut(StepView),
-) {
-    simulate_lanes::<{ lanes::WIDE_CHUNK }>(sc, ws, first, active, plant, visit)
+unsafe fn simulate_avx512(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
+    simulate_lanes::<{ lanes::WIDE_CHUNK }>(sc, ws, first, active, visit)
 }
 
 /// [`simulate`] compiled for AVX2: four lanes per instruction instead of SSE2's two. Rust never
 /// fuses a·b + c, so each lane's arithmetic, and every figure, is the same bits either way.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn simulate_avx2(
-    sc: &Scenario,
-    ws: &mut Workspace,
-    first: u64,
-    active: usize,
-    plant: bool,
-    visit: impl FnMut(StepView),
-) {
-    simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, plant, visit)
+unsafe fn simulate_avx2(sc: &Scenario, ws: &mut Workspace, first: u64, active: usize, visit: impl FnMut(StepView)) {
+    simulate_lanes::<{ lanes::CHUNK }>(sc, ws, first, active, visit)
 }
 
 #[inline(always)]
@@ -230,9 +216,9 @@ fn simulate_lanes<const C: usize>(
     ws: &mut Workspace,
     first: u64,
     active: usize,
-    plant: bool,
     mut visit: impl FnMut(StepView),
 ) {
+    let plant = ws.outputs || !sc.errors_alone();
     let p = sc.plant;
     let ops = sc.ops;
     let nm = ops.modes;

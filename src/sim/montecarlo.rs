@@ -51,7 +51,6 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
         ws,
         first,
         active,
-        false,
         #[inline(always)]
         |v| {
             let (k, f, e) = (v.k, v.f, v.e);
@@ -218,7 +217,7 @@ pub struct Trajectory {
 
 /// Re-runs trials 0..count (same streams and blocks as in [`run`]) and records their trajectories.
 pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
-    let mut ws = Workspace::new(sc);
+    let mut ws = Workspace::with_outputs(sc);
     let (nz, steps) = (sc.plant.nz(), sc.plant.steps());
     let mut out: Vec<Trajectory> = (0..count)
         .map(|t| Trajectory {
@@ -229,8 +228,8 @@ pub fn trajectories(sc: &Scenario, count: u64) -> Vec<Trajectory> {
         })
         .collect();
     for (b, block) in out.chunks_mut(LANES).enumerate() {
-        simulate(sc, &mut ws, b as u64 * BLOCK, block.len(), true, |v| {
-            let Some(o) = &v.outputs else { unreachable!("outputs asked for") };
+        simulate(sc, &mut ws, b as u64 * BLOCK, block.len(), |v| {
+            let Some(o) = &v.outputs else { unreachable!("a workspace with outputs") };
             for (l, tr) in block.iter_mut().enumerate() {
                 for i in 0..nz {
                     if v.f == 0 {
