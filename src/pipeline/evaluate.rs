@@ -139,19 +139,17 @@ pub(crate) fn exact_errors(engine: &Engine, setup: &Setup) -> Result<(Vec<ExactE
         .zip(&exp.filters)
         .map(|(r, f)| {
             let e = exact_of(&exp.plant, r, setup)?.trusted(&f.name)?;
-            let form =
-                (e.coordinates == exact::Coordinates::Error).then(|| exact::error_form(&exp.plant, r).ok()).flatten();
-            Ok((e, form))
+            let wanted = engine.plant_free || e.coordinates == exact::Coordinates::Error;
+            Ok((e, wanted.then(|| exact::error_form(&exp.plant, r).ok()).flatten()))
         })
         .collect::<Vec<Result<_>>>();
-    let (exact, forms): (Vec<_>, Vec<_>) = each.into_iter().collect::<Result<Vec<_>>>()?.into_iter().unzip();
-    if engine.plant_free {
-        let all: Option<Vec<_>> = engine.reals.par_iter().map(|r| exact::error_form(&exp.plant, r).ok()).collect();
-        if let Some(all) = all {
-            return Ok((exact, all.into_iter().map(Some).collect()));
-        }
+    let (errors, forms): (Vec<ExactError>, Vec<_>) = each.into_iter().collect::<Result<Vec<_>>>()?.into_iter().unzip();
+    if engine.plant_free && forms.iter().all(Option::is_some) {
+        return Ok((errors, forms));
     }
-    Ok((exact, forms))
+    let needed = |(f, e): (Option<ErrorForm>, &ExactError)| f.filter(|_| e.coordinates == exact::Coordinates::Error);
+    let forms = forms.into_iter().zip(&errors).map(needed).collect();
+    Ok((errors, forms))
 }
 
 /// Where a run's Monte Carlo statistics come from, chosen once by the command.
