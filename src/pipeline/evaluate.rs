@@ -94,7 +94,9 @@ impl<'a> Engine<'a> {
 
     /// Each filter's steps stacked for the Monte Carlo ([`Stacked`]) in the coordinates of `forms`.
     pub fn stacked(&self, forms: &[Option<ErrorForm>]) -> Vec<Option<Stacked>> {
-        self.reals.iter().zip(forms).map(|(r, f)| Stacked::new(&self.exp.plant, r, f.as_ref())).collect()
+        (self.reals.iter().zip(forms).zip(&self.nis))
+            .map(|((r, f), nis)| Stacked::new(&self.exp.plant, r, f.as_ref(), *nis))
+            .collect()
     }
 }
 

@@ -175,6 +175,9 @@ pub(crate) struct StepView<'a> {
     pub w: &'a [Row],
     pub s: &'a [Row],
     pub error_coordinates: bool,
+    /// The innovation whitened by the step's NIS weight, Lᵀν with W = L Lᵀ, when the filter's
+    /// product computes it ([`crate::sim::stacked`]; zero at a step without a weight).
+    pub whitened: Option<&'a [Row]>,
 }
 
 /// Simulates trials first..first+active in the lanes of `ws` and calls `visit` for each step k and
@@ -274,7 +277,8 @@ fn simulate_lanes<const C: usize>(
                 let rows = if k < p.horizon { 0..st.rows() } else { ns..st.rows() };
                 let out = &mut ws.stacked_out[f];
                 st.product::<C>(k, rows.clone(), &segs[..used], &ws.mode_lanes, &mut out[rows]);
-                let output = &out[ns..];
+                let output = &out[st.output()];
+                let whitened = st.whitened().map(|r| &out[r]);
                 let (e, zhat) = match form {
                     None => {
                         lanes::difference(&ws.z, output, &mut ws.err);
@@ -297,6 +301,7 @@ fn simulate_lanes<const C: usize>(
                     w,
                     s: &ws.s[f],
                     error_coordinates: form.is_some(),
+                    whitened,
                 });
                 if k < p.horizon {
                     ws.s[f].copy_from_slice(&out[..ns]);
@@ -331,6 +336,7 @@ fn simulate_lanes<const C: usize>(
                 w,
                 s,
                 error_coordinates,
+                whitened: None,
             });
             if k < p.horizon {
                 let next = &mut ws.s_next[f];

@@ -66,12 +66,19 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
                 acc.nees.set(k, Welford::of(&q[..active]));
             }
             if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
-                if wide {
-                    innovation::<{ lanes::WIDE_CHUNK }>(sc, &v, &mut nu, &mut tmp);
-                } else {
-                    innovation::<{ lanes::CHUNK }>(sc, &v, &mut nu, &mut tmp);
+                match v.whitened {
+                    // νᵀWν = ‖Lᵀν‖², Lᵀν from the filter's own product.
+                    Some(white) if wide => lanes::squared_norm_in::<{ lanes::WIDE_CHUNK }>(white, &mut q),
+                    Some(white) => lanes::squared_norm(white, &mut q),
+                    None => {
+                        if wide {
+                            innovation::<{ lanes::WIDE_CHUNK }>(sc, &v, &mut nu, &mut tmp);
+                        } else {
+                            innovation::<{ lanes::CHUNK }>(sc, &v, &mut nu, &mut tmp);
+                        }
+                        quadratic(wide, w, &nu, &mut q);
+                    }
                 }
-                quadratic(wide, w, &nu, &mut q);
                 acc.nis.set(k, Welford::of(&q[..active]));
             }
             if plant.counts(k) {

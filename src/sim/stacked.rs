@@ -8,7 +8,11 @@
 //! ```
 //!
 //! (the filter (docs/math.md §6), or its error form ε = s − M x, e = z − ẑ
-//! ([`crate::analysis::exact::error_form`])). Each step's matrices, per mode of the plant, sit in
+//! ([`crate::analysis::exact::error_form`])). A filter in error coordinates whose NIS is reported
+//! gets three more blocks of rows, its innovation ν = y − C x̂ = D w − C ε whitened by the step's NIS
+//! weight W = L Lᵀ: Lᵀν = [−LᵀC, LᵀD, 0] (ε, w, r), whose squared norm is νᵀWν, so the NIS costs a
+//! few more rows of the one product instead of two products, a difference and a quadratic form of
+//! its own. Each step's matrices, per mode of the plant, sit in
 //! one contiguous buffer instead of five matrices of their own, and a block whose lanes are in
 //! different modes applies to each lane its own mode's entry instead of one product per mode: each
 //! lane's sum is then the one a block of lanes all in its mode computes, term by term in the same
@@ -16,6 +20,7 @@
 //! modes.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use crate::analysis::exact::ErrorForm;
 use crate::filter::realization::Realization;
@@ -25,8 +30,10 @@ use crate::sim::lanes::{self, LANES, Row};
 
 /// One filter's stacked step matrices over the horizon (module docs).
 pub struct Stacked {
-    /// State rows (the first `ns` of a block), then the output's.
+    /// State rows (the first `ns` of a block), then the output's (`nz`), then the whitened
+    /// innovation's (none without it).
     ns: usize,
+    nz: usize,
     rows: usize,
     /// Columns: the state's, the input's (w in error coordinates, y otherwise), the known input's.
     cols: [usize; 3],
@@ -41,8 +48,15 @@ pub struct Stacked {
 impl Stacked {
     /// The stacked steps of `real`, in error coordinates when `form` is given; None when one of its
     /// matrices is large enough for the blocked product of `lanes::gemm`, whose order of summation
-    /// this one would not reproduce (the engine then applies the five matrices one by one).
-    pub fn new(plant: &Plant, real: &Realization, form: Option<&ErrorForm>) -> Option<Self> {
+    /// this one would not reproduce (the engine then applies the five matrices one by one). With
+    /// `nis` (the filter's NIS weights per step) and a form, the whitened innovation's rows follow
+    /// (module docs), unless a weight has no Cholesky factor.
+    pub fn new(
+        plant: &Plant,
+        real: &Realization,
+        form: Option<&ErrorForm>,
+        nis: Option<&[Option<Arc<Mat>>]>,
+    ) -> Option<Self> {
         let modes = plant.n_modes();
         let parts = |k: usize, m: usize| -> [&Mat; 5] {
             match form {
@@ -59,7 +73,9 @@ impl Stacked {
         let first = parts(0, 0);
         let (ns, nz) = (first[0].nrows(), first[3].nrows());
         let cols = [first[0].ncols(), first[1].ncols(), first[2].ncols()];
-        let rows = ns + nz;
+        let white = form.and(nis).and_then(|w| whiteners(plant, cols, w));
+        let nu = white.as_ref().map_or(0, |w| w.nu);
+        let rows = ns + nz + nu;
         let size = rows * cols.iter().sum::<usize>();
         let mut data = Vec::new();
         let mut steps: Vec<(usize, bool)> = Vec::with_capacity(plant.steps());
@@ -90,6 +106,9 @@ impl Stacked {
                     }
                     j0 += c;
                 }
+                if let Some(w) = &white {
+                    w.write(k, rows, ns + nz, block);
+                }
             }
             let same_bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
             let per_mode = (1..modes).any(|m| !same_bits(&here[..size], &here[m * size..(m + 1) * size]));
@@ -105,7 +124,7 @@ impl Stacked {
             };
             steps.push(entry);
         }
-        Some(Stacked { ns, rows, cols, modes, data, steps })
+        Some(Stacked { ns, nz, rows, cols, modes, data, steps })
     }
 
     /// Rows of the state part; the output's follow up to [`Stacked::rows`].
@@ -115,6 +134,17 @@ impl Stacked {
 
     pub(crate) fn rows(&self) -> usize {
         self.rows
+    }
+
+    /// The output's rows (e in error coordinates, ẑ otherwise).
+    pub(crate) fn output(&self) -> Range<usize> {
+        self.ns..self.ns + self.nz
+    }
+
+    /// The whitened innovation's rows, if the product computes it (zero at a step without a NIS
+    /// weight).
+    pub(crate) fn whitened(&self) -> Option<Range<usize>> {
+        (self.rows > self.ns + self.nz).then_some(self.ns + self.nz..self.rows)
     }
 
     /// Whether the known input enters (the filter may have been built on a model without one).
@@ -147,6 +177,51 @@ impl Stacked {
             (true, None) => {
                 let blocks = &self.data[off..off + self.modes * size];
                 sums::<C, true>(blocks, size, self.rows, rows, segs, &lanes.masks, out)
+            }
+        }
+    }
+}
+
+/// Per step, Lᵀ[−C, D] of the whitened innovation Lᵀν (module docs), W = L Lᵀ the step's NIS
+/// weight; C and D those the engine's innovation uses, the plant's in its first mode.
+struct Whiteners {
+    nu: usize,
+    /// (−LᵀC, LᵀD) per step, None at a step without a weight.
+    rows: Vec<Option<(Mat, Mat)>>,
+}
+
+/// The whiteners of a filter in error coordinates with NIS weights `weights`: None where its state
+/// does not estimate the plant's (ν = D w − C ε needs ε = s − x) or a weight has no Cholesky factor
+/// (the engine then forms ν and νᵀWν itself).
+fn whiteners(plant: &Plant, cols: [usize; 3], weights: &[Option<Arc<Mat>>]) -> Option<Whiteners> {
+    if cols[0] != plant.nx() || cols[1] != plant.nw() || weights.len() != plant.steps() {
+        return None;
+    }
+    let rows = weights
+        .iter()
+        .enumerate()
+        .map(|(k, w)| match w {
+            None => Some(None),
+            Some(w) => {
+                let lt = w.as_ref().clone().cholesky()?.l().transpose();
+                Some(Some((-(&lt * plant.c_of(k, 0).as_ref()), &lt * plant.d_of(k, 0).as_ref())))
+            }
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some(Whiteners { nu: plant.ny(), rows })
+}
+
+impl Whiteners {
+    /// Writes step k's rows from `first` into a column-major `block` of `nrows` rows (the known
+    /// input's columns stay zero).
+    fn write(&self, k: usize, nrows: usize, first: usize, block: &mut [f64]) {
+        let Some((c, d)) = &self.rows[k] else { return };
+        for (j0, m) in [(0, c), (c.ncols(), d)] {
+            for j in 0..m.ncols() {
+                let col = &mut block[(j0 + j) * nrows + first..(j0 + j) * nrows + first + self.nu];
+                for (d, v) in col.iter_mut().zip(m.column(j).iter()) {
+                    *d = *v;
+                }
             }
         }
     }
