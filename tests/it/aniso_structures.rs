@@ -13,7 +13,7 @@
 //!   `static` up to the floor P2 ⪰ 1e-6 λmax(CzᵀCz) I, so γ(gamma_*) ≤ γ(static) (1 + 1e-4).
 //! - γ is monotone in a for every structure.
 //! - Theorem 1's LMIs solved by clarabel ([`theorem1::analyze_sdp`]) reach the exact optimum of
-//!   [`theorem1::analyze`] at a > 0 and a = ∞.
+//!   [`theorem1::analyze`] at a > 0 and a = ∞, and their H2 limit at a = 0 reaches ‖F‖₂²/lw.
 //! - Dropouts through the general plant: a Rademacher factor on C (p = ½) designs the same filter
 //!   bound as the dropout plant.
 //! - A structure whose conditions the plant or the experiment breaks is refused, naming them.
@@ -124,7 +124,7 @@ fn gamma_grows_with_the_anisotropy_level() {
 fn theorem1_lmis_in_clarabel_reach_their_riccati_optimum() {
     let exp = plant("filtering", 20, NOISE, "");
     let p = &exp.plant;
-    for level in [Level::Anisotropy(3.0), Level::Hinf] {
+    for level in [Level::Anisotropy(0.0), Level::Anisotropy(3.0), Level::Hinf] {
         for s in [Structure::Predictor, Structure::GammaZero] {
             let c = anisotropic::synthesize_checked(p, s, level).unwrap();
             let real = anisotropic::realization(p, &c.synthesis);
@@ -217,9 +217,10 @@ fn monte_carlo_matches_exact_for_every_structure() {
 }
 
 /// The project's own interior-point method (`solver = "own"`, `numerics::solve::interior`) solves
-/// the same programs as clarabel: on every structure of this plant at a = 4 and a = ∞ its own design
-/// (not clarabel's fallback) passes the same three-way check, and its γ² agrees with clarabel's
-/// within the two solvers' stated objective errors. At a = 4 it reaches its tolerances; the H∞
+/// the same programs as clarabel: on every structure of this plant at a = 0 (the H2 limit program),
+/// a = 4 and a = ∞ its own design (not clarabel's fallback) passes the same three-way check, and its
+/// γ² agrees with clarabel's within the two solvers' stated objective errors. At a = 0 and a = 4 it
+/// reaches its tolerances; the H∞
 /// programs, whose optimal filters are not unique, may stall just short of them (then its error is
 /// held to clarabel's AlmostSolved gap, as clarabel's own is).
 #[test]
@@ -227,7 +228,7 @@ fn own_interior_point_method_designs_what_clarabel_designs() {
     use filterbench::numerics::solve::conic::Solver;
     let exp = plant("filtering", 25, NOISE, "");
     for s in ALL {
-        for level in [Level::Anisotropy(4.0), Level::Hinf] {
+        for level in [Level::Anisotropy(0.0), Level::Anisotropy(4.0), Level::Hinf] {
             let c = anisotropic::synthesize_checked_with(&exp.plant, s, level, Solver::Clarabel).unwrap();
             let o = anisotropic::synthesize_checked_with(&exp.plant, s, level, Solver::Own)
                 .unwrap_or_else(|e| panic!("{s:?} {level:?}: {e}"));

@@ -28,7 +28,10 @@
 //! has full column rank). A full P would leave products P12·W that no linear substitution removes.
 //!
 //! The H2-suboptimal filter is a = 0 and the H∞-suboptimal one a → ∞, where the determinant
-//! condition forces η = γ² and drops out: minimize η subject to (4.34)–(4.35) alone.
+//! condition forces η = γ² and drops out: minimize η subject to (4.34)–(4.35) alone. At a = 0 the
+//! LMIs' infimum lies at η → ∞, and the program solved is that limit, attained at finite matrices:
+//! P(k) ⪰ E\[𝒜ᵀP'𝒜 + 𝒞ᵀ𝒞], N(k) ⪰ E\[ℬᵀP'ℬ + 𝒟ᵀ𝒟], minimize Σₖ tr N(k)/lw
+//! ([`crate::analysis::theorem1`]'s `Conditions::h2_limit`).
 
 use serde::Deserialize;
 
@@ -128,7 +131,8 @@ impl super::family::Family for Anisotropic {
         diagnostics.insert("gamma_sq_objective_error".into(), syn.objective_error.into());
         diagnostics.insert("theorem1_error".into(), checked.theorem1.error.into());
         diagnostics.insert("certified_gamma_sq".into(), checked.certified_sq.into());
-        diagnostics.insert("eta".into(), syn.eta.into());
+        // η = ∞ in the H2 limit program (a = 0), written as the level's "inf" is.
+        diagnostics.insert("eta".into(), if syn.eta.is_finite() { syn.eta.into() } else { "inf".into() });
         diagnostics.insert(
             "design_anisotropy".into(),
             match level {

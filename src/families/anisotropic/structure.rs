@@ -86,7 +86,8 @@ pub struct Synthesis {
     pub h: Vec<Mat>,
     pub f: Vec<Mat>,
     pub g: Vec<Mat>,
-    /// The solver's γ² (the program's objective) and η = 1/q. Not itself a proven bound: an
+    /// The solver's γ² (the program's objective) and η = 1/q (+∞ in the H2 limit program, a = 0).
+    /// Not itself a proven bound: an
     /// interior-point value within `objective_error` of the optimum (the certified bound is
     /// `anisotropic::Checked::certified_sq`).
     pub gamma_sq: f64,
@@ -221,8 +222,7 @@ pub(crate) fn synthesize_tuned(
     let mut conic = Conic::default();
     cond.add(&mut vars, &mut conic, &lmis, mw);
 
-    let mut cost = vec![0.0; vars.count];
-    cost[cond.gsq] = 1.0;
+    let cost = cond.cost(vars.count);
     let (rows, cones) = conic.size();
     let sol = conic.minimize_tuned(&cost, tuning)?;
     let x = &sol.x;
@@ -252,8 +252,8 @@ pub(crate) fn synthesize_tuned(
         h: hs,
         f: fs,
         g: gs,
-        gamma_sq: x[cond.gsq],
-        eta: x[cond.eta],
+        gamma_sq: cond.gamma_sq(x),
+        eta: cond.eta(x),
         objective_error: sol.objective_error,
         variables: vars.count,
         rows,

@@ -37,8 +37,9 @@
 //! better point. A point short of `TOL` is returned only within clarabel's own AlmostSolved
 //! thresholds, and marked so (its objective error is then held to clarabel's reduced gap, in
 //! `conic`'s `minimize_own`); a decomposed program that ends otherwise is solved again as written,
-//! and anything else is an error, on which the design falls back to clarabel. The H2 designs
-//! (a = 0), whose optimum is approached as η → ∞ and not attained, end on the slow tail.
+//! and anything else is an error, on which the design falls back to clarabel. (The H2 designs,
+//! a = 0, are solved as the LMIs' limit η → ∞, a program whose optimum is attained; written with a
+//! finite η they ended on the slow tail.)
 //!
 //! Whatever this solver returns is checked as clarabel's designs are
 //! (`families::anisotropic::synthesize_checked`): the exact norm of the filter and Theorem 1 with a
@@ -187,9 +188,9 @@ pub(crate) fn solve(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
             out.dual_objective = -dot(p.b, &out.z);
             Ok(out)
         }
-        // The decomposed program is the same optimum in other coordinates, and on the degenerate
-        // programs (the H2 designs, whose optimum is not attained) its slow tail can stall where
-        // the program as written does not (`aniso_dropout`'s a = 0 design at p = 0.95).
+        // The decomposed program is the same optimum in other coordinates, and on a degenerate
+        // program (one whose optimum is not attained, as the H2 designs' were when written with
+        // a finite η) its slow tail can stall where the program as written does not.
         Err(why) => solve_program(p, cost).map_err(|again| format!("{why}; as written: {again}")),
     }
 }

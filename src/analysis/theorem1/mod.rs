@@ -29,7 +29,10 @@
 //! **The determinant condition in clarabel.** det Ψ ≥ ∏ Z_ii for every lower-triangular Z with
 //! [[Ψ, Z], [Zᵀ, Diag Z]] ⪰ 0 (PSD cone), and the geometric mean of the lw diagonal entries is
 //! bounded below by a binary tree of rotated second-order cones u² ≤ ab, padded with copies of the
-//! bound itself to a power of two. At a = ∞ (H∞) the condition forces η = γ² and Ψ drops out.
+//! bound itself to a power of two. At a = ∞ (H∞) the condition forces η = γ² and Ψ drops out. At
+//! a = 0 the infimum lies at η → ∞, and the program written is that limit (`Conditions::h2_limit`):
+//! (4.25) without its η row and column, (4.27) with N(k) in place of ηI − Ψ(k), and Σₖ tr N(k)/lw
+//! minimized — no determinant condition.
 
 use std::time::Instant;
 
@@ -42,187 +45,10 @@ use crate::numerics::solve::affine::{AffMat, Vars};
 use crate::numerics::solve::conic::{Conic, Failure, Tuning};
 use crate::numerics::solve::line::{bisect, minimize_on_open};
 
-/// The level of a bound: a total anisotropy a ≥ 0 (over lw = mw(N+1)), or H∞ (a = ∞).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Level {
-    Anisotropy(f64),
-    Hinf,
-}
+mod conditions;
 
-impl Level {
-    /// a, with H∞ as +∞.
-    pub fn value(self) -> f64 {
-        match self {
-            Level::Anisotropy(a) => a,
-            Level::Hinf => f64::INFINITY,
-        }
-    }
-}
-
-/// One term of the error system at step k (index 0 the mean, then one per factor), as affine
-/// matrices: P(k+1)𝒜ᵢ, P(k+1)ℬᵢ, 𝒞ᵢ, 𝒟ᵢ; None where the term does not enter (no zero blocks are
-/// written, so the program is as small as the plant's noise).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Term {
-    pub pa: Option<AffMat>,
-    pub pb: Option<AffMat>,
-    pub c: Option<AffMat>,
-    pub d: Option<AffMat>,
-}
-
-/// Step k of (4.25)–(4.28): P(k), P(k+1) (None at k = N, where P(N+1) = 0), the terms, and any
-/// constraint of the caller's change of variables that belongs to this step (written first).
-#[derive(Clone, Debug)]
-pub(crate) struct Step {
-    pub p: AffMat,
-    pub next: Option<AffMat>,
-    pub terms: Vec<Term>,
-    pub extra_psd: Vec<AffMat>,
-}
-
-/// The scalar variables η = 1/q and γ² and, for a finite level, Ψ(k) and the triangular Z(k) of the
-/// determinant bound.
-pub(crate) struct Conditions {
-    pub level: Level,
-    pub eta: usize,
-    pub gsq: usize,
-    psi: Vec<AffMat>,
-    zl: Vec<AffMat>,
-}
-
-/// An affine scalar: constant + Σ coef·x.
-type Scalar = (f64, Vec<(usize, f64)>);
-
-impl Conditions {
-    /// Creates η and γ² (the same variable at a = ∞, where (4.29) forces η = γ²).
-    pub fn new(vars: &mut Vars, level: Level) -> Self {
-        let eta = vars.scalar();
-        let gsq = match level {
-            Level::Anisotropy(_) => vars.scalar(),
-            Level::Hinf => eta,
-        };
-        Conditions { level, eta, gsq, psi: Vec::new(), zl: Vec::new() }
-    }
-
-    /// Creates Ψ(k) and Z(k) for `steps` steps of an input of size mw (nothing at a = ∞).
-    pub(crate) fn determinant_variables(&mut self, vars: &mut Vars, steps: usize, mw: usize) {
-        if matches!(self.level, Level::Anisotropy(_)) {
-            self.psi = (0..steps).map(|_| vars.symmetric(mw)).collect();
-            self.zl = (0..steps).map(|_| vars.matrix(mw, mw, true)).collect();
-        }
-    }
-
-    /// Writes (4.25)–(4.29) for every step into `conic`.
-    pub fn add(&self, vars: &mut Vars, conic: &mut Conic, steps: &[Step], mw: usize) {
-        let aniso = matches!(self.level, Level::Anisotropy(_));
-        let eta_i = AffMat::scalar_times(self.eta, Mat::identity(mw, mw));
-        for (k, st) in steps.iter().enumerate() {
-            for extra in &st.extra_psd {
-                extra.psd_into(conic);
-            }
-            let n = st.p.shape().0;
-            // (4.25)/(4.26): P(k), ηI, then a P' row for every term with 𝒜ᵢ or ℬᵢ (none at k = N),
-            // then an I row for every term with 𝒞ᵢ or 𝒟ᵢ.
-            let state_rows: Vec<&Term> = match &st.next {
-                Some(_) => st.terms.iter().filter(|t| t.pa.is_some() || t.pb.is_some()).collect(),
-                None => Vec::new(),
-            };
-            let out_rows: Vec<&Term> = st.terms.iter().filter(|t| t.c.is_some() || t.d.is_some()).collect();
-            let pz = out_rows.first().map_or(0, |t| t.c.as_ref().or(t.d.as_ref()).map_or(0, |m| m.shape().0));
-            let mut sizes = vec![n, mw];
-            let mut lower: Vec<Vec<Option<AffMat>>> = vec![vec![Some(st.p.clone())], vec![None, Some(eta_i.clone())]];
-            for t in &state_rows {
-                let mut row = vec![t.pa.clone(), t.pb.clone()];
-                row.resize(sizes.len(), None);
-                row.push(st.next.clone());
-                lower.push(row);
-                sizes.push(n);
-            }
-            for t in &out_rows {
-                let mut row = vec![t.c.clone(), t.d.clone()];
-                row.resize(sizes.len(), None);
-                row.push(Some(AffMat::constant(Mat::identity(pz, pz))));
-                lower.push(row);
-                sizes.push(pz);
-            }
-            AffMat::symmetric_blocks(&sizes, &lower).psd_into(conic);
-            if aniso {
-                // (4.27)/(4.28): ηI − Ψ(k), a P' row per term with ℬᵢ, an I row per term with 𝒟ᵢ.
-                let mut sizes = vec![mw];
-                let mut lower: Vec<Vec<Option<AffMat>>> = vec![vec![Some(eta_i.sub(&self.psi[k]))]];
-                if st.next.is_some() {
-                    for t in st.terms.iter().filter(|t| t.pb.is_some()) {
-                        let mut row = vec![t.pb.clone()];
-                        row.resize(sizes.len(), None);
-                        row.push(st.next.clone());
-                        lower.push(row);
-                        sizes.push(n);
-                    }
-                }
-                for t in st.terms.iter().filter(|t| t.d.is_some()) {
-                    let mut row = vec![t.d.clone()];
-                    row.resize(sizes.len(), None);
-                    row.push(Some(AffMat::constant(Mat::identity(pz, pz))));
-                    lower.push(row);
-                    sizes.push(pz);
-                }
-                AffMat::symmetric_blocks(&sizes, &lower).psd_into(conic);
-                // det Ψ(k) ≥ ∏ Z_ii:  [[Ψ, Z], [Zᵀ, Diag Z]] ⪰ 0.
-                AffMat::symmetric_blocks(
-                    &[mw, mw],
-                    &[vec![Some(self.psi[k].clone())], vec![Some(self.zl[k].transpose()), Some(self.zl[k].diagonal())]],
-                )
-                .psd_into(conic);
-            }
-        }
-        if let Level::Anisotropy(alevel) = self.level {
-            self.determinant_tree(vars, conic, alevel, mw * steps.len());
-        }
-    }
-
-    /// (4.29) in the convex form η − γ² ≤ e^{−2a/lw} (∏ det Ψ(k))^{1/lw}: t = e^{2a/lw}(η − γ²) ≥ 0
-    /// must not exceed the geometric mean of the Z_ii.
-    fn determinant_tree(&self, vars: &mut Vars, conic: &mut Conic, alevel: f64, lw: usize) {
-        let mw = self.psi.first().map_or(0, |p| p.shape().0);
-        let s = (2.0 * alevel / lw as f64).exp();
-        let t: Scalar = (0.0, vec![(self.eta, s), (self.gsq, -s)]);
-        conic.nonnegative(vec![t.clone()]);
-        let mut nodes: Vec<Scalar> = Vec::new();
-        for z in &self.zl {
-            for i in 0..mw {
-                let idx = z.terms.iter().find(|(_, m)| m[(i, i)] == 1.0).map(|(k, _)| *k).expect("diagonal variable");
-                nodes.push((0.0, vec![(idx, 1.0)]));
-            }
-        }
-        while !nodes.len().is_power_of_two() {
-            nodes.push(t.clone());
-        }
-        while nodes.len() > 1 {
-            let mut next = Vec::with_capacity(nodes.len() / 2);
-            for pair in nodes.chunks(2) {
-                let u = vars.scalar();
-                rotated_cone(conic, &pair[0], &pair[1], u);
-                next.push((0.0, vec![(u, 1.0)]));
-            }
-            nodes = next;
-        }
-        // root ≥ t
-        let root = &nodes[0];
-        let mut terms = root.1.clone();
-        terms.extend(t.1.iter().map(|(k, c)| (*k, -c)));
-        conic.nonnegative(vec![(root.0 - t.0, terms)]);
-    }
-}
-
-/// u² ≤ a·b with a, b ≥ 0, as the second-order cone ‖(2u, a − b)‖ ≤ a + b.
-fn rotated_cone(conic: &mut Conic, a: &Scalar, b: &Scalar, u: usize) {
-    let comb = |sa: f64, sb: f64| -> Scalar {
-        let mut t: Vec<(usize, f64)> = a.1.iter().map(|(k, c)| (*k, sa * c)).collect();
-        t.extend(b.1.iter().map(|(k, c)| (*k, sb * c)));
-        (sa * a.0 + sb * b.0, t)
-    };
-    conic.second_order(vec![comb(1.0, 1.0), (0.0, vec![(u, 2.0)]), comb(1.0, -1.0)]);
-}
+pub use conditions::Level;
+pub(crate) use conditions::{Conditions, Step, Term};
 
 /// What Theorem 1 certifies for a given filter by [`analyze_sdp`]: the least γ² clarabel finds for
 /// (4.25)–(4.29) over P(k), Ψ(k), η, and the size and cost of the program.
@@ -301,8 +127,7 @@ pub fn analyze_sdp(plant: &Plant, real: &Realization, level: Level) -> Result<Sd
         .collect();
     let mut conic = Conic::default();
     cond.add(&mut vars, &mut conic, &steps, mw);
-    let mut cost = vec![0.0; vars.count];
-    cost[cond.gsq] = 1.0;
+    let cost = cond.cost(vars.count);
     let (rows, _) = conic.size();
     let t = Instant::now();
     let sol = conic
@@ -310,7 +135,7 @@ pub fn analyze_sdp(plant: &Plant, real: &Realization, level: Level) -> Result<Sd
         .or_else(|_| conic.minimize_tuned(&cost, &Tuning::robust()))
         .map_err(|f: Failure| Error::invalid("anisotropy", format!("Theorem 1's analysis LMIs (4.25)–(4.29): {f}")))?;
     Ok(SdpAnalysis {
-        gamma_sq: sol.x[cond.gsq],
+        gamma_sq: cond.gamma_sq(&sol.x),
         objective_error: sol.objective_error,
         almost: sol.almost,
         iterations: sol.iterations,
@@ -369,11 +194,11 @@ fn error_terms(plant: &Plant, real: &Realization, k: usize, probs: &[f64]) -> Ve
 /// at once — the monotonicity the paper invokes below (4.24)), Ψ(k) = ηS̃(k) is the best Ψ, and
 /// (4.29) then gives γ²(q) = (1 − e^{(Σₖ ln det S̃(k) − 2a)/lw})/q. The least γ² over q ∈ (0, q̄),
 /// q̄ = sup{q : every S̃ ≻ 0}, is Theorem 1's bound for this filter with a full P(k); at a = ∞ it is
-/// 1/q̄. This is the optimum of the LMIs [`analyze_sdp`] hands to clarabel, without its difficulty:
-/// at a = 0 the optimum is the limit q → 0 (η → ∞), which an interior-point solver only approaches
-/// (AlmostSolved, 0.5 % apart between settings on aniso_dropout). R is carried divided by q, so
-/// q → 0 loses nothing: at a = 0 the bound tends to tr E\[ℬᵀR̃ℬ + 𝒟ᵀ𝒟]/lw = ‖F‖₂²/lw, the exact
-/// H2 limit (Jensen's gap vanishes with the quadratic term).
+/// 1/q̄. This is the optimum of the LMIs [`analyze_sdp`] hands to clarabel. At a = 0 the optimum is
+/// the limit q → 0 (η → ∞): R is carried divided by q, and the bound tends to
+/// tr E\[ℬᵀR̃ℬ + 𝒟ᵀ𝒟]/lw = ‖F‖₂²/lw, the exact H2 limit (Jensen's gap vanishes with the quadratic
+/// term), which is returned directly (q = 0) with its own error bound; it is also the optimum of
+/// the H2 limit program the synthesis and [`analyze_sdp`] write at a = 0.
 ///
 /// **Error analysis.** Each step forms R(k) from R(k+1) by a fixed number of products of
 /// (n_ξ × n_ξ) and (n_ξ × m_w) matrices, a relative rounding of about n_ξ ε; carried through the m
@@ -456,6 +281,17 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
     };
     if !(trace > 0.0) {
         return Ok(Analysis { gamma_sq: 0.0, q: 0.0, error: 0.0, seconds: t.elapsed().as_secs_f64() });
+    }
+    if level == Level::Anisotropy(0.0) {
+        // The limit q → 0 itself, tr Λ/lw = ‖F‖₂²/lw: the only input of anisotropy 0 is white and
+        // isotropic, so this is the exact |||F|||²₀ and no q is needed. Its error is the analysis
+        // above summed over the steps: tr N̂(k) to (m + 1) n ε of itself (‖N̂‖_F ≤ tr N̂ for N̂ ⪰ 0),
+        // m + 1 ≤ N + 1, then the division by lw.
+        let nw = plant.nw();
+        let gamma_sq = trace / lw;
+        let error =
+            crate::numerics::accuracy::recursion_error(plant.steps(), n.max(nw), gamma_sq) + f64::EPSILON * gamma_sq;
+        return Ok(Analysis { gamma_sq, q: 0.0, error, seconds: t.elapsed().as_secs_f64() });
     }
     // q̄ ≤ 1/λmax(Λ) ≤ lw/tr Λ (Theorem 1's H∞ bound 1/q̄ is at least the exact λmax), and every
     // S̃ = I at q = 0.
