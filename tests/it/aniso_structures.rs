@@ -220,9 +220,8 @@ fn monte_carlo_matches_exact_for_every_structure() {
 /// the same programs as clarabel: on every structure of this plant at a = 0 (the H2 limit program),
 /// a = 4 and a = ∞ its own design (not clarabel's fallback) passes the same three-way check, and its
 /// γ² agrees with clarabel's within the two solvers' stated objective errors. At a = 0 and a = 4 it
-/// reaches its tolerances; the H∞
-/// programs, whose optimal filters are not unique, may stall just short of them (then its error is
-/// held to clarabel's AlmostSolved gap, as clarabel's own is).
+/// reaches its tolerances; the H∞ programs, whose optimal filters are not unique, may stall just
+/// short of them (then its error is held to clarabel's AlmostSolved gap, as clarabel's own is).
 #[test]
 fn own_interior_point_method_designs_what_clarabel_designs() {
     use filterbench::numerics::solve::conic::Solver;

@@ -80,7 +80,8 @@ impl Analysis {
     /// The certified bound: γ²(q) rounded up past its error. Theorem 1 proves |||F|||²_a ≤ γ²(q)
     /// for every q at which every S̃(k) ≻ 0, and [`analyze`] only accepts a q whose S̃(k) are
     /// positive definite by more than their eigenvalues' error, so this is a bound on the filter's
-    /// norm, not a value within a tolerance of one.
+    /// norm, not a value within a tolerance of one. At a = 0 (q = 0) γ² is the exact |||F|||²₀ and
+    /// the error its recursion's, so this is again a bound.
     pub fn certified(&self) -> f64 {
         crate::numerics::accuracy::round_up(self.gamma_sq, self.error)
     }

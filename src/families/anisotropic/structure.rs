@@ -87,9 +87,8 @@ pub struct Synthesis {
     pub f: Vec<Mat>,
     pub g: Vec<Mat>,
     /// The solver's γ² (the program's objective) and η = 1/q (+∞ in the H2 limit program, a = 0).
-    /// Not itself a proven bound: an
-    /// interior-point value within `objective_error` of the optimum (the certified bound is
-    /// `anisotropic::Checked::certified_sq`).
+    /// Not itself a proven bound: an interior-point value within `objective_error` of the optimum
+    /// (the certified bound is `anisotropic::Checked::certified_sq`).
     pub gamma_sq: f64,
     pub eta: f64,
     /// clarabel's first-order bound on |γ² − the program's optimum| (`Solution::objective_error`).
