@@ -125,7 +125,7 @@ impl super::family::Family for Anisotropic {
         diagnostics.insert("theorem1_gamma_sq".into(), checked.theorem1.gamma_sq.into());
         diagnostics.insert("theorem1_q".into(), checked.theorem1.q.into());
         diagnostics.insert("theorem1_seconds".into(), checked.theorem1.seconds.into());
-        diagnostics.insert("clarabel_attempts".into(), checked.attempt.into());
+        diagnostics.insert("sdp_attempt".into(), checked.attempt.into());
         diagnostics.insert("sdp_solver".into(), checked.solver.name().into());
         diagnostics.insert("gamma_sq".into(), syn.gamma_sq.into());
         diagnostics.insert("gamma_sq_objective_error".into(), syn.objective_error.into());
@@ -143,8 +143,8 @@ impl super::family::Family for Anisotropic {
         diagnostics.insert("sdp_variables".into(), syn.variables.into());
         diagnostics.insert("sdp_rows".into(), syn.rows.into());
         diagnostics.insert("sdp_cones".into(), serde_json::to_value(&syn.cones).unwrap_or_default());
-        diagnostics.insert("clarabel_iterations".into(), syn.iterations.into());
-        diagnostics.insert("clarabel_seconds".into(), syn.solve_seconds.into());
+        diagnostics.insert("sdp_iterations".into(), syn.iterations.into());
+        diagnostics.insert("sdp_seconds".into(), syn.solve_seconds.into());
         Ok(Design {
             gain_bound: Some(crate::filter::design::GainBound {
                 gamma_sq: checked.certified_sq,
