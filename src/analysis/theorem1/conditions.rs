@@ -80,7 +80,7 @@ impl Conditions {
     /// Whether the program is the H2 limit of (4.25)–(4.29): at a = 0 their infimum is approached
     /// only as η → ∞ (the determinant condition with a = 0 gives γ² ≥ η − (∏ det Ψ)^{1/lw}, which
     /// tends to Σₖ tr(ηI − Ψ(k))/lw from above), so the program written at a = 0 is that limit,
-    /// attained at finite matrices: divide (4.25) by nothing and let η → ∞ in its Schur complement,
+    /// attained at finite matrices: letting η → ∞ in the Schur complement of (4.25) leaves
     /// P(k) ⪰ E\[𝒜ᵀP'𝒜 + 𝒞ᵀ𝒞] (the coupling through ℬ, 𝒟 vanishes with (ηI − ·)⁻¹), and (4.27)
     /// becomes N(k) ⪰ E\[ℬᵀP'ℬ + 𝒟ᵀ𝒟] with ηI − Ψ(k) = N(k); minimize Σₖ tr N(k)/lw. Every point of
     /// (4.25)–(4.29) at a = 0 gives a point of this program with Σ tr N/lw ≤ γ² (the arithmetic–
