@@ -40,7 +40,7 @@ use crate::analysis::exact::{Augmented, augmented};
 use crate::error::{Error, Result};
 use crate::filter::realization::Realization;
 use crate::model::plant::Plant;
-use crate::numerics::linalg::{Mat, symmetrize};
+use crate::numerics::linalg::{Mat, symmetrize, symmetrize_mut};
 use crate::numerics::solve::affine::{AffMat, Vars};
 use crate::numerics::solve::conic::{Conic, Failure, Tuning};
 use crate::numerics::solve::line::{bisect, minimize_on_open};
@@ -233,35 +233,40 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
         .collect();
     let lw = (plant.nw() * plant.steps()) as f64;
     let n = plant.nx() + real.ns();
+    let passes: Vec<RiccatiStep> = steps.iter().rev().map(|terms| RiccatiStep::new(terms)).collect();
+    let nw = passes.first().map_or(0, |p| p.gg.nrows());
+    // The q search runs ~150 passes of 2N + 2 steps: one workspace for all of them.
+    let work = std::cell::RefCell::new(Work::new(n, nw));
     // Σ ln det S̃(k) at q and its error bound, or None when some S̃(k) is not positive definite
     // beyond its eigenvalues' error.
     let ln_det = |q: f64| -> Option<(f64, f64)> {
-        let mut r = Mat::zeros(n, n);
+        let w = &mut *work.borrow_mut();
+        w.r.fill(0.0);
         let mut total = 0.0;
         let mut error = 0.0;
-        for (after, terms) in steps.iter().rev().enumerate() {
-            let nw = terms[0].e.ncols();
-            let (mut nn, mut bb, mut rr) = (Mat::zeros(nw, nw), Mat::zeros(nw, n), Mat::zeros(n, n));
-            for a in terms {
-                let (rf, re) = (&r * &a.f, &r * &a.e);
-                nn += a.e.transpose() * &re + a.g.transpose() * &a.g;
-                bb += a.e.transpose() * &rf + a.g.transpose() * &a.h;
-                rr += a.f.transpose() * &rf + a.h.transpose() * &a.h;
-            }
+        for (after, step) in passes.iter().enumerate() {
+            step.moments(w);
             // S̃ = I − qN̂ with N̂ = N/q's eigenvalues μ: ln det S̃ = Σ ln(1 − qμ) by log1p, which
             // keeps its digits for the q ~ 1e-12 q̄ where the a = 0 bound is taken.
-            let eig = symmetrize(&nn).symmetric_eigen();
-            let dmu = (after + 1) as f64 * crate::numerics::accuracy::eigenvalue_error_of(n.max(nw), nn.norm());
+            let eig = symmetrize(&w.nn).symmetric_eigen();
+            let dmu = (after + 1) as f64 * crate::numerics::accuracy::eigenvalue_error_of(n.max(nw), w.nn.norm());
             if eig.eigenvalues.iter().any(|m| q * (m + dmu) >= 1.0) {
                 return None;
             }
             total += eig.eigenvalues.iter().map(|m| (-q * m).ln_1p()).sum::<f64>();
             error += eig.eigenvalues.iter().map(|m| q * dmu / (1.0 - q * (m + dmu)) + f64::EPSILON).sum::<f64>();
-            let inv = Mat::from_diagonal(&eig.eigenvalues.map(|m| 1.0 / (1.0 - q * m)));
-            let s_inv = &eig.eigenvectors * inv * eig.eigenvectors.transpose();
+            // S̃⁻¹ = V diag(1/(1 − qμ)) Vᵀ.
+            w.vd.copy_from(&eig.eigenvectors);
+            for (mut col, m) in w.vd.column_iter_mut().zip(eig.eigenvalues.iter()) {
+                col /= 1.0 - q * m;
+            }
+            w.s_inv.gemm(1.0, &w.vd, &eig.eigenvectors.transpose(), 0.0);
             // R̃ = R/q: R̃(k) = E[𝒜ᵀR̃'𝒜 + 𝒞ᵀ𝒞] + q L̂ᵀ S̃⁻¹ L̂ with L̂ = L̃/q.
-            r = symmetrize(&(rr + q * bb.transpose() * s_inv * &bb));
-            if !r.iter().all(|v| v.is_finite()) {
+            w.sb.gemm(1.0, &w.s_inv, &w.bb, 0.0);
+            w.r.copy_from(&w.rr);
+            w.r.gemm_tr(q, &w.bb, &w.sb, 1.0);
+            symmetrize_mut(&mut w.r);
+            if !w.r.iter().all(|v| v.is_finite()) {
                 return None;
             }
         }
@@ -310,4 +315,71 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
         }
     };
     Ok(Analysis { gamma_sq, q, error, seconds: t.elapsed().as_secs_f64() })
+}
+
+/// One step of [`analyze`]'s Riccati pass: its terms (𝒜, ℬ and their transposes) and the sums over
+/// the terms that do not depend on R', E[𝒟ᵀ𝒟], E[𝒟ᵀ𝒞], E[𝒞ᵀ𝒞].
+struct RiccatiStep {
+    /// (𝒜, ℬ, 𝒜ᵀ, ℬᵀ) of each term.
+    terms: Vec<(Mat, Mat, Mat, Mat)>,
+    gg: Mat,
+    gh: Mat,
+    hh: Mat,
+}
+
+impl RiccatiStep {
+    fn new(terms: &[Augmented]) -> Self {
+        let (nw, n) = (terms[0].e.ncols(), terms[0].f.ncols());
+        let (mut gg, mut gh, mut hh) = (Mat::zeros(nw, nw), Mat::zeros(nw, n), Mat::zeros(n, n));
+        for a in terms {
+            gg.gemm_tr(1.0, &a.g, &a.g, 1.0);
+            gh.gemm_tr(1.0, &a.g, &a.h, 1.0);
+            hh.gemm_tr(1.0, &a.h, &a.h, 1.0);
+        }
+        let terms = terms.iter().map(|a| (a.f.clone(), a.e.clone(), a.f.transpose(), a.e.transpose())).collect();
+        RiccatiStep { terms, gg, gh, hh }
+    }
+
+    /// N = E[ℬᵀR'ℬ + 𝒟ᵀ𝒟], L = E[ℬᵀR'𝒜 + 𝒟ᵀ𝒞] and E[𝒜ᵀR'𝒜 + 𝒞ᵀ𝒞] from R' = `w.r`, into `w`.
+    fn moments(&self, w: &mut Work) {
+        w.nn.copy_from(&self.gg);
+        w.bb.copy_from(&self.gh);
+        w.rr.copy_from(&self.hh);
+        for (f, e, ft, et) in &self.terms {
+            w.rf.gemm(1.0, &w.r, f, 0.0);
+            w.re.gemm(1.0, &w.r, e, 0.0);
+            w.nn.gemm(1.0, et, &w.re, 1.0);
+            w.bb.gemm(1.0, et, &w.rf, 1.0);
+            w.rr.gemm(1.0, ft, &w.rf, 1.0);
+        }
+    }
+}
+
+/// The matrices of one Riccati pass, reused from step to step and from pass to pass.
+struct Work {
+    r: Mat,
+    rf: Mat,
+    re: Mat,
+    nn: Mat,
+    bb: Mat,
+    rr: Mat,
+    vd: Mat,
+    s_inv: Mat,
+    sb: Mat,
+}
+
+impl Work {
+    fn new(n: usize, nw: usize) -> Self {
+        Work {
+            r: Mat::zeros(n, n),
+            rf: Mat::zeros(n, n),
+            re: Mat::zeros(n, nw),
+            nn: Mat::zeros(nw, nw),
+            bb: Mat::zeros(nw, n),
+            rr: Mat::zeros(n, n),
+            vd: Mat::zeros(nw, nw),
+            s_inv: Mat::zeros(nw, nw),
+            sb: Mat::zeros(nw, n),
+        }
+    }
 }

@@ -390,11 +390,16 @@ pub(crate) fn exact_norm_sq_with_error(plant: &Plant, real: &Realization, level:
     Ok((value, accuracy::eigenvalue_error(&gram)))
 }
 
-/// |||F|||²_a from Λ's eigenvalues (seed 003 §2), a = ∞ giving λmax(Λ).
+/// |||F|||²_a from Λ's eigenvalues (seed 003 §2), a = ∞ giving λmax(Λ): the eigenvalues alone, the
+/// worst input's covariance is not needed here.
 fn dense_norm_sq(gram: &Mat, level: Level) -> Result<f64> {
+    let values = crate::numerics::linalg::sym_eigenvalues(gram)?;
     Ok(match level {
-        Level::Anisotropy(a) => crate::analysis::anisotropy::anisotropic_norm(gram, a)?.0.value.powi(2),
-        Level::Hinf => crate::numerics::linalg::sym_eigen(gram)?.0.into_iter().fold(0.0, f64::max),
+        Level::Anisotropy(a) => {
+            let mu: Vec<f64> = values.iter().map(|m| m.max(0.0)).collect();
+            crate::analysis::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?.value.powi(2)
+        }
+        Level::Hinf => values.into_iter().fold(0.0, f64::max),
     })
 }
 
