@@ -235,7 +235,7 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
     let n = plant.nx() + real.ns();
     let passes: Vec<RiccatiStep> = steps.iter().rev().map(|terms| RiccatiStep::new(terms)).collect();
     let nw = passes.first().map_or(0, |p| p.gg.nrows());
-    // The q search runs ~150 passes of 2N + 2 steps: one workspace for all of them.
+    // The q search runs about 150 passes over the N + 1 steps: one workspace for all of them.
     let work = std::cell::RefCell::new(Work::new(n, nw));
     // Σ ln det S̃(k) at q and its error bound, or None when some S̃(k) is not positive definite
     // beyond its eigenvalues' error.
