@@ -207,8 +207,9 @@ pub fn sym_eigen(m: &Mat) -> Result<(Vec<f64>, Mat)> {
     Ok((values, Mat::from_fn(n, n, |i, j| evd.U()[(i, j)])))
 }
 
-/// The eigenvalues of a symmetric matrix in nondecreasing order, as [`sym_eigen`] computes them but
-/// without the eigenvectors (a third of the work at the horizon's size).
+/// The eigenvalues of a symmetric matrix in nondecreasing order, by faer without the eigenvectors
+/// (backward stable as [`sym_eigen`] is, so the same error bound holds; the last digits may differ
+/// from [`sym_eigen`]'s).
 pub fn sym_eigenvalues(m: &Mat) -> Result<Vec<f64>> {
     let n = m.nrows();
     let s = symmetrize(m);
