@@ -34,8 +34,13 @@ pub enum Build {
 /// Set by [`force_build`]: 0 for the best build the processor has, else a cap on it.
 static FORCED: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
 
-/// The best build this processor runs.
+/// The best build this processor runs (detected once: the lane kernels ask at every step).
 pub fn best_build() -> Build {
+    static BEST: std::sync::OnceLock<Build> = std::sync::OnceLock::new();
+    *BEST.get_or_init(detect)
+}
+
+fn detect() -> Build {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::is_x86_feature_detected as has;

@@ -7,7 +7,7 @@
 
 use bit_vec::BitVec;
 
-use crate::sim::stats::Welford;
+use crate::sim::stats::{Welford, chan};
 
 /// Bytes a step costs in a series: its mean and M2, and its bit (rounded up to a byte).
 pub(crate) const STEP_BYTES: u64 = 2 * 8 + 1;
@@ -129,6 +129,22 @@ impl Series {
             }
             _ => None,
         };
+        if let (Some(_), Counts::Uniform { n, present }, Counts::Uniform { n: m, .. }) =
+            (sum, &mut self.counts, &o.counts)
+            && *n > 0
+            && *m > 0
+        {
+            // One pair of counts for every step that has one (the Monte Carlo's blocks): the steps'
+            // merges without a count to look up, and the same arithmetic (`stats::chan`).
+            let steps = self.mean.iter_mut().zip(self.m2.iter_mut()).zip(o.mean.iter().zip(&o.m2));
+            for (((a, a2), (b, b2)), here) in steps.zip(present.iter()) {
+                if here {
+                    (*a, *a2) = chan((*a, *a2), *n, (*b, *b2), *m);
+                }
+            }
+            *n += *m;
+            return;
+        }
         if sum.is_none() {
             self.per_step();
         }

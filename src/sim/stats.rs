@@ -18,6 +18,16 @@ fn sum(values: &[f64], f: impl Fn(f64) -> f64) -> f64 {
     acc.iter().sum()
 }
 
+/// Chan, Golub & LeVeque's combination of the (mean, M2) of `na` values with that of `nb` more
+/// (both counts positive): [`Welford::merge`]'s arithmetic, which [`crate::sim::series::Series`]
+/// also runs over whole series of steps with one pair of counts.
+#[inline(always)]
+pub(crate) fn chan(a: (f64, f64), na: u64, b: (f64, f64), nb: u64) -> (f64, f64) {
+    let n = (na + nb) as f64;
+    let d = b.0 - a.0;
+    (a.0 + d * nb as f64 / n, a.1 + (b.1 + d * d * na as f64 * nb as f64 / n))
+}
+
 /// z-quantile of a two-sided 95 % normal interval.
 pub(crate) const Z95: f64 = 1.959_963_984_540_054;
 
@@ -63,10 +73,7 @@ impl Welford {
             *self = *o;
             return;
         }
-        let n = (self.n + o.n) as f64;
-        let d = o.mean - self.mean;
-        self.mean += d * o.n as f64 / n;
-        self.m2 += o.m2 + d * d * self.n as f64 * o.n as f64 / n;
+        (self.mean, self.m2) = chan((self.mean, self.m2), self.n, (o.mean, o.m2), o.n);
         self.n += o.n;
     }
 
