@@ -317,11 +317,11 @@ pub fn analyze(plant: &Plant, real: &Realization, level: Level) -> Result<Analys
     Ok(Analysis { gamma_sq, q, error, seconds: t.elapsed().as_secs_f64() })
 }
 
-/// One step of [`analyze`]'s Riccati pass: its terms (𝒜, ℬ and their transposes) and the sums over
-/// the terms that do not depend on R', E[𝒟ᵀ𝒟], E[𝒟ᵀ𝒞], E[𝒞ᵀ𝒞].
+/// One step of [`analyze`]'s Riccati pass: its terms (𝒜, ℬ) and the sums over the terms that do not
+/// depend on R', E[𝒟ᵀ𝒟], E[𝒟ᵀ𝒞], E[𝒞ᵀ𝒞].
 struct RiccatiStep {
-    /// (𝒜, ℬ, 𝒜ᵀ, ℬᵀ) of each term.
-    terms: Vec<(Mat, Mat, Mat, Mat)>,
+    /// (𝒜, ℬ) of each term.
+    terms: Vec<(Mat, Mat)>,
     gg: Mat,
     gh: Mat,
     hh: Mat,
@@ -336,7 +336,7 @@ impl RiccatiStep {
             gh.gemm_tr(1.0, &a.g, &a.h, 1.0);
             hh.gemm_tr(1.0, &a.h, &a.h, 1.0);
         }
-        let terms = terms.iter().map(|a| (a.f.clone(), a.e.clone(), a.f.transpose(), a.e.transpose())).collect();
+        let terms = terms.iter().map(|a| (a.f.clone(), a.e.clone())).collect();
         RiccatiStep { terms, gg, gh, hh }
     }
 
@@ -345,12 +345,12 @@ impl RiccatiStep {
         w.nn.copy_from(&self.gg);
         w.bb.copy_from(&self.gh);
         w.rr.copy_from(&self.hh);
-        for (f, e, ft, et) in &self.terms {
+        for (f, e) in &self.terms {
             w.rf.gemm(1.0, &w.r, f, 0.0);
             w.re.gemm(1.0, &w.r, e, 0.0);
-            w.nn.gemm(1.0, et, &w.re, 1.0);
-            w.bb.gemm(1.0, et, &w.rf, 1.0);
-            w.rr.gemm(1.0, ft, &w.rf, 1.0);
+            w.nn.gemm_tr(1.0, e, &w.re, 1.0);
+            w.bb.gemm_tr(1.0, e, &w.rf, 1.0);
+            w.rr.gemm_tr(1.0, f, &w.rf, 1.0);
         }
     }
 }
