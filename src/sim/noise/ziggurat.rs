@@ -335,20 +335,28 @@ fn tries(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
 /// [`tries`] 8 lanes at a time: the xoshiro256++ step of [`LaneRng::next_row`] on one vector per state
 /// word, held in registers over all rows, and each lane's (X\[i], X\[i+1]) by a 16-byte load of its
 /// [`Tables::pair`], interleaved — AVX-512 gathers are microcoded on AMD's Zen 4, where they made
-/// the draw twice as slow. The same operations on the same values: the same bits and masks.
+/// the draw twice as slow. Software-pipelined: the next row's generator step and table loads come
+/// before this row's arithmetic, so the loads' latency overlaps that arithmetic instead of holding
+/// up the row that waits for them (on Zen 4 about 5–10 % less time a normal; docs/architecture.md,
+/// "Where a trial's time goes"). The same operations on the same values: the same bits and masks.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
 #[inline]
 unsafe fn tries_avx512(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
     use std::arch::x86_64::*;
     let (low, two, three) = (_mm512_set1_epi64(LAYER_BITS as i64), _mm512_set1_epi64(TWO as i64), _mm512_set1_pd(3.0));
+    let rows = out.len().min(masks.len());
+    if rows == 0 {
+        return;
+    }
     let mut index = [0u64; 8];
     for c in (0..LANES).step_by(8) {
         // SAFETY: the chunk's 8 lanes and the table's entries (i < LAYERS) are in bounds; the state
         // arrays and the vectors have the same size.
         unsafe {
             let [mut a, mut b, mut s2, mut d]: [__m512i; 4] = std::mem::transmute(rng.chunk::<8>(c));
-            for (row, mask) in out.iter_mut().zip(masks.iter_mut()) {
+            // One row's try: the generator's next output and its lanes' table pairs.
+            let mut next = || {
                 let bits = _mm512_add_epi64(_mm512_rol_epi64::<23>(_mm512_add_epi64(a, d)), a);
                 let t = _mm512_slli_epi64::<17>(b);
                 s2 = _mm512_xor_si512(s2, a);
@@ -358,16 +366,24 @@ unsafe fn tries_avx512(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
                 s2 = _mm512_xor_si512(s2, t);
                 d = _mm512_rol_epi64::<45>(d);
                 _mm512_storeu_si512(index.as_mut_ptr().cast(), _mm512_and_si512(bits, low));
-                let p = |l: usize| _mm_loadu_pd(TABLES.pair[index[l] as usize].as_ptr());
-                let half = |l: usize, m: usize| _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(p(l)), p(m));
+                let p: [__m128d; 8] = std::array::from_fn(|l| _mm_loadu_pd(TABLES.pair[index[l] as usize].as_ptr()));
+                (bits, p)
+            };
+            let mut ahead = next();
+            for r in 0..rows {
+                let (bits, p) = ahead;
+                if r + 1 < rows {
+                    ahead = next();
+                }
+                let half = |l: usize, m: usize| _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(p[l]), p[m]);
                 let even = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(half(0, 2)), half(4, 6));
                 let odd = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(half(1, 3)), half(5, 7));
                 let u = _mm512_sub_pd(_mm512_castsi512_pd(_mm512_or_si512(_mm512_srli_epi64::<12>(bits), two)), three);
                 let x = _mm512_mul_pd(u, _mm512_unpacklo_pd(even, odd));
                 let m = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(_mm512_abs_pd(x), _mm512_unpackhi_pd(even, odd));
                 let kept = _mm512_mask_blend_pd(m, x, _mm512_castsi512_pd(bits));
-                _mm512_storeu_pd(row.as_mut_ptr().add(c), kept);
-                *mask |= u64::from(m) << c;
+                _mm512_storeu_pd(out[r].as_mut_ptr().add(c), kept);
+                masks[r] |= u64::from(m) << c;
             }
             rng.set_chunk::<8>(c, &std::mem::transmute::<[__m512i; 4], [[u64; 8]; 4]>([a, b, s2, d]));
         }
