@@ -338,7 +338,7 @@ fn tries(rng: &mut LaneRng, out: &mut [Row], masks: &mut [u64]) {
 /// the draw twice as slow. Software-pipelined: the next row's generator step and table loads come
 /// before this row's arithmetic, so the loads' latency overlaps that arithmetic instead of holding
 /// up the row that waits for them (on Zen 4 about 5–10 % less time a normal; docs/architecture.md,
-/// "Where a trial's time goes"). The same operations on the same values: the same bits and masks.
+/// "The draw pipelined"). The same operations on the same values: the same bits and masks.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
 #[inline]
