@@ -424,6 +424,7 @@ enum BuildArg {
 }
 
 fn main() -> ExitCode {
+    filterbench::numerics::solve::conic::single_threaded_blas();
     match main_inner(Cli::parse()) {
         Ok(code) => code,
         Err(e) => {

@@ -16,16 +16,33 @@ unsafe extern "C" {
     fn openblas_set_num_threads(num_threads: std::ffi::c_int);
 }
 
-/// Makes OpenBLAS run every call on the calling thread, once per process. Designs already run in
-/// parallel on rayon's workers; an OpenBLAS pool per call on top of them oversubscribes the cores
+/// Makes OpenBLAS run every call on the calling thread, once per process, and stops the pool of
+/// worker threads it started when the library was loaded. Designs already run in parallel on
+/// rayon's workers; an OpenBLAS pool per call on top of them oversubscribes the cores
 /// (aniso_dropout: 17 s of system time and 405 000 involuntary context switches for the same
-/// numbers). Set here, before the first clarabel solve, so it does not depend on the user's
-/// OPENBLAS_NUM_THREADS.
-pub(crate) fn single_threaded_blas() {
+/// numbers). Its idle workers also spin with `sched_yield` for about 0.1 s after the library is
+/// loaded, whether or not a BLAS call ever comes: on two cores that took 2–6 % of `filterbench
+/// bench`'s throughput (docs/architecture.md, "OpenBLAS's idle pool"), so the binary calls this
+/// first thing. `blas_thread_shutdown_` is looked up at run time because only OpenBLAS's
+/// threaded builds have it (a serial build has no pool to stop); with one thread set first, a later
+/// call runs on its caller and never restarts the pool. Called here too, before the first clarabel
+/// solve, so that library users get the same; neither depends on the user's OPENBLAS_NUM_THREADS.
+pub fn single_threaded_blas() {
     static ONCE: std::sync::Once = std::sync::Once::new();
-    // SAFETY: a plain setter of OpenBLAS's global thread count, called once before any BLAS call
-    // of ours; it takes no pointers.
-    ONCE.call_once(|| unsafe { openblas_set_num_threads(1) });
+    ONCE.call_once(|| {
+        // SAFETY: a plain setter of OpenBLAS's global thread count, called before any BLAS call of
+        // ours; it takes no pointers.
+        unsafe { openblas_set_num_threads(1) };
+        // SAFETY: dlsym with RTLD_DEFAULT and a NUL-terminated name only reads the name.
+        let stop = unsafe { libc::dlsym(libc::RTLD_DEFAULT, c"blas_thread_shutdown_".as_ptr()) };
+        if !stop.is_null() {
+            // SAFETY: OpenBLAS's `int blas_thread_shutdown_(void)` (driver/others/blas_server.c),
+            // which joins its idle workers; no BLAS call of ours is running (this runs once, before
+            // the first).
+            let stop: unsafe extern "C" fn() -> std::ffi::c_int = unsafe { std::mem::transmute(stop) };
+            unsafe { stop() };
+        }
+    });
 }
 
 /// A solved program.
