@@ -21,9 +21,9 @@ unsafe extern "C" {
 /// rayon's workers; an OpenBLAS pool per call on top of them oversubscribes the cores
 /// (aniso_dropout: 17 s of system time and 405 000 involuntary context switches for the same
 /// numbers). Its idle workers also spin with `sched_yield` for about 0.1 s after the library is
-/// loaded, whether or not a BLAS call ever comes: on two cores that took 2–6 % of `filterbench
-/// bench`'s throughput (docs/architecture.md, "OpenBLAS's idle pool"), so the binary calls this
-/// first thing. `blas_thread_shutdown_` is looked up at run time because only OpenBLAS's
+/// loaded, whether or not a BLAS call ever comes: on a 2-core Zen 4 that took 2–6 % of
+/// `filterbench bench`'s throughput, on a 2-core Zen 2 less than that machine's noise
+/// (docs/architecture.md, "OpenBLAS's idle pool"), so the binary calls this first thing. `blas_thread_shutdown_` is looked up at run time because only OpenBLAS's
 /// threaded builds have it (a serial build has no pool to stop); with one thread set first, a later
 /// call runs on its caller and never restarts the pool. Called here too, before the first clarabel
 /// solve, so that library users get the same; neither depends on the user's OPENBLAS_NUM_THREADS.
