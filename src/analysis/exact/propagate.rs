@@ -90,6 +90,14 @@ pub(super) fn propagate(
     let mut m: Vec<Vector> = probs[0].iter().map(|p| &start.m * *p).collect();
     let mut y: Vec<Mat> = probs[0].iter().map(|p| &start.y * *p).collect();
     let mut z: Vec<Option<Mat>> = probs[0].iter().map(|p| start.z.as_ref().map(|z| z * *p)).collect();
+    // Z = E[ξ Jᵀ] is read only at the columns of w[k] and later ones (ξ[k] meets w[k] at step k and
+    // never an earlier w again), so it is carried from column `first` on, which moves up a step at a
+    // time: the recursion then costs Σₖ (dim J − k·nw) instead of (N + 1)·dim J per mode. Each
+    // column is the same bits either way (every product forms a column from that column alone);
+    // at least KEPT columns are kept so that nalgebra's products take the same kernel as on the
+    // whole matrix (it multiplies fewer than six columns in its own loops, not matrixmultiply's).
+    const KEPT: usize = 6;
+    let mut first = 0;
     let mut per_step = Vec::with_capacity(plant.steps());
     let mut per_mode = vec![0.0; q];
     let mut magnitudes = Vec::with_capacity(plant.steps());
@@ -112,11 +120,16 @@ pub(super) fn propagate(
         let mut magnitude = 0.0;
         let mut next: Vec<(Vector, Mat, Option<Mat>)> = Vec::with_capacity(q);
         let counted = plant.counts(k);
+        // The first column step k + 1 reads (w[k + 1]'s offset), never past the last KEPT.
+        let next_first = match input {
+            Input::Joint { mean, .. } => (plant.nx() + (k + 1) * nw).min(mean.len().saturating_sub(KEPT)).max(first),
+            Input::White { .. } => 0,
+        };
         for (j, a) in augs.iter().enumerate() {
             let pj = probs[k][j];
             // E[ξ w[k]ᵀ 1{θ = j}]: from the cross moment, or m_j μᵀ when w[k] is independent of ξ.
             let zk = match (&z[j], off) {
-                (Some(zj), Some(o)) => zj.columns(o, nw).into_owned(),
+                (Some(zj), Some(o)) => zj.columns(o - first, nw).into_owned(),
                 (Some(_), None) => Mat::zeros(nxi, nw),
                 (None, _) => &m[j] * mu.transpose(),
             };
@@ -154,9 +167,11 @@ pub(super) fn propagate(
             }
             let zn = match (&z[j], input) {
                 (Some(zj), Input::Joint { mean, raw }) => {
-                    let mut zn = &a.f * zj + pj * (&c * mean.transpose());
+                    let cols = zj.ncols() - (next_first - first);
+                    let mut zn = &a.f * zj.columns(next_first - first, cols)
+                        + pj * (&c * mean.rows(next_first, cols).transpose());
                     if let Some(o) = off {
-                        zn += pj * (&a.e * raw.rows(o, nw));
+                        zn += pj * (&a.e * raw.view((o, next_first), (nw, cols)));
                     }
                     Some(zn)
                 }
@@ -169,6 +184,7 @@ pub(super) fn propagate(
         if k == plant.horizon {
             break;
         }
+        first = next_first;
         // Mix by the chain: moments of θ[k+1] = i collect Π_ji times those of θ[k] = j.
         for i in 0..q {
             m[i] = (0..q).fold(Vector::zeros(nxi), |acc, j| acc + transition[(j, i)] * &next[j].0);
