@@ -74,14 +74,38 @@ pub fn anisotropic_norm_from_eigenvalues(mu: &[f64], a: f64) -> Result<Anisotrop
 /// |||F|||_a for Λ = E\[FᵀF], and the worst input covariance Σ(q) = (I − qΛ)⁻¹ (scaled to unit trace
 /// per component, tr Σ = lw).
 pub fn anisotropic_norm(lambda: &Mat, a: f64) -> Result<(AnisotropicNorm, Mat)> {
-    let (values, v) = sym_eigen(lambda)?;
+    let (values, vectors) = sym_eigen(lambda)?;
+    worst_from_eigen(&GramEigen { values, vectors }, a)
+}
+
+/// The eigendecomposition of a realization's Λ = E\[𝓕ᵀ𝓕] ([`error_gram`], [`sym_eigen`]): what
+/// every a-anisotropic figure of the filter is read from, at any level a. Kept by the design stage
+/// for a filter whose worst input a scenario draws, so that Λ is formed and decomposed once.
+#[derive(Clone, Debug)]
+pub struct GramEigen {
+    pub values: Vec<f64>,
+    pub vectors: Mat,
+}
+
+/// Λ's eigendecomposition for `real` on `plant` (the same bits wherever it is taken).
+pub fn gram_eigen(
+    plant: &crate::model::plant::Plant,
+    real: &crate::filter::realization::Realization,
+) -> Result<GramEigen> {
+    let (values, vectors) = sym_eigen(&error_gram(plant, real)?)?;
+    Ok(GramEigen { values, vectors })
+}
+
+/// [`anisotropic_norm`] from Λ's eigendecomposition.
+pub fn worst_from_eigen(eigen: &GramEigen, a: f64) -> Result<(AnisotropicNorm, Mat)> {
+    let (values, v) = (&eigen.values, &eigen.vectors);
     let mu: Vec<f64> = values.iter().map(|m| m.max(0.0)).collect();
     let norm = anisotropic_norm_from_eigenvalues(&mu, a)?;
     let d: Vec<f64> = mu.iter().map(|m| 1.0 / (1.0 - norm.q * m).max(f64::MIN_POSITIVE)).collect();
     let tr: f64 = d.iter().sum();
     let lw = mu.len() as f64;
     let scaled = nalgebra::DVector::from_iterator(d.len(), d.iter().map(|x| x * lw / tr));
-    let sigma = &v * Mat::from_diagonal(&scaled) * v.transpose();
+    let sigma = v * Mat::from_diagonal(&scaled) * v.transpose();
     Ok((norm, symmetrize(&sigma)))
 }
 

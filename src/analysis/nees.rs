@@ -100,32 +100,32 @@ fn project(plant: &Plant, real: &Realization, u: &Mat) -> (Plant, Realization) {
     (p, r)
 }
 
-/// E[e\[k] e\[k]ᵀ] for every step k, where `exact` evaluates the per-step mean-square error of a
-/// plant and filter under the input of interest.
+/// E[e\[k] e\[k]ᵀ] for every step k, where `exact` evaluates the per-step mean-square error of
+/// pairs of a plant and filter under the input of interest: the error's projections on every unit
+/// vector and every sum of two, which differ only in their outputs, so `exact` can run them as one
+/// state recursion (`exact::errors`).
 pub fn error_moments(
     plant: &Plant,
     real: &Realization,
-    exact: &dyn Fn(&Plant, &Realization) -> Result<ExactError>,
+    exact: &dyn Fn(&[(&Plant, &Realization)]) -> Result<Vec<ExactError>>,
 ) -> Result<Vec<Mat>> {
     let nz = plant.nz();
     let unit = |i: usize| Mat::from_fn(1, nz, |_, c| (c == i) as u8 as f64);
-    let mut diag: Vec<Vec<f64>> = Vec::with_capacity(nz);
-    for i in 0..nz {
-        let (p, r) = project(plant, real, &unit(i));
-        diag.push(exact(&p, &r)?.per_step);
-    }
+    let pairs: Vec<(usize, usize)> =
+        (0..nz).map(|i| (i, i)).chain((0..nz).flat_map(|i| (i + 1..nz).map(move |j| (i, j)))).collect();
+    let projected: Vec<(Plant, Realization)> =
+        pairs.iter().map(|&(i, j)| project(plant, real, &if i == j { unit(i) } else { unit(i) + unit(j) })).collect();
+    let refs: Vec<(&Plant, &Realization)> = projected.iter().map(|(p, r)| (p, r)).collect();
+    let per_step: Vec<Vec<f64>> = exact(&refs)?.into_iter().map(|e| e.per_step).collect();
+    let diag = &per_step[..nz];
     let steps = plant.steps();
     let mut m: Vec<Mat> =
         (0..steps).map(|k| Mat::from_fn(nz, nz, |i, j| if i == j { diag[i][k] } else { 0.0 })).collect();
-    for i in 0..nz {
-        for j in i + 1..nz {
-            let (p, r) = project(plant, real, &(unit(i) + unit(j)));
-            let sum = exact(&p, &r)?.per_step;
-            for (k, mk) in m.iter_mut().enumerate() {
-                let c = 0.5 * (sum[k] - diag[i][k] - diag[j][k]);
-                mk[(i, j)] = c;
-                mk[(j, i)] = c;
-            }
+    for (&(i, j), sum) in pairs.iter().zip(&per_step).skip(nz) {
+        for (k, mk) in m.iter_mut().enumerate() {
+            let c = 0.5 * (sum[k] - diag[i][k] - diag[j][k]);
+            mk[(i, j)] = c;
+            mk[(j, i)] = c;
         }
     }
     Ok(m)

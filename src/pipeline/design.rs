@@ -22,6 +22,9 @@ pub struct DesignedFilter {
     pub worst: Option<WorstCase>,
     /// The exact a-anisotropic norm² and its limits, at the experiment's `anisotropy` level (seed 003).
     pub anisotropic: Option<AnisotropicFigures>,
+    /// Λ's eigendecomposition, kept where a scenario draws this filter's worst anisotropic input
+    /// and the figures above took it (the dense route), so that the scenario does not redo it.
+    pub gram_eigen: Option<crate::analysis::anisotropy::GramEigen>,
     /// The summed error with zero noise (x0's mean and the known input alone).
     pub deterministic_error: f64,
     /// What the filter believes its error is, if it has a design covariance P (see [`Claimed`]).
@@ -96,16 +99,24 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             let seconds = t.elapsed().as_secs_f64();
             let worst = worst_case(exp, &design.realization)
                 .map_err(|e| Error::design(&f.name, format!("worst case over the set: {e}")))?;
-            let anisotropic = match exp.anisotropy {
-                Some(a) => Some(anisotropic_figures(exp, &design.realization, a)?),
-                None => None,
+            let (anisotropic, gram_eigen) = match exp.anisotropy {
+                Some(a) => {
+                    let (figures, eigen) = anisotropic_figures(exp, &design.realization, a)?;
+                    let drawn = exp.scenarios.iter().any(
+                        |s| matches!(s.input, crate::config::InputChoice::AnisotropicWorstFor { filter, .. } if filter == i),
+                    );
+                    (Some(figures), eigen.filter(|_| drawn))
+                }
+                None => (None, None),
             };
             let deterministic_error = exact::deterministic_error(&exp.plant, &design.realization);
             let claimed = Claimed::of(&exp.plant, &design);
             let claimed_moments = match (&claimed, &design.design_covariance) {
                 (Some(_), _) if design.claimed_error.is_some() => design.claimed_error.clone(),
                 (Some(_), Some(cov)) => {
-                    let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
+                    let at_design = |pairs: &[(&Plant, &Realization)]| {
+                        exact::errors(pairs, cov).into_iter().map(|e| e.trusted(&f.name)).collect()
+                    };
                     Some(nees::error_moments(&exp.plant, &design.realization, &at_design)?)
                 }
                 _ => None,
@@ -114,7 +125,9 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
             // A claimed S that double precision cannot resolve is no claim: no NIS then.
             let nis = match (&design.design_covariance, nees::innovation_system(&exp.plant, &design.realization)) {
                 (Some(cov), Some((p, r))) => {
-                    let at_design = |p: &Plant, r: &Realization| exact::error(p, r, cov).trusted(&f.name);
+                    let at_design = |pairs: &[(&Plant, &Realization)]| {
+                        exact::errors(pairs, cov).into_iter().map(|e| e.trusted(&f.name)).collect()
+                    };
                     nees::error_moments(&p, &r, &at_design).ok().map(|m| Normalized::of(&m))
                 }
                 _ => None,
@@ -125,6 +138,7 @@ pub fn design_all(exp: &Experiment) -> Result<Vec<DesignedFilter>> {
                 seconds,
                 worst,
                 anisotropic,
+                gram_eigen,
                 deterministic_error,
                 claimed,
                 nees,
@@ -152,22 +166,27 @@ pub struct AnisotropicFigures {
 const DENSE_NORM_MAX_INPUTS: usize = 1500;
 
 /// A filter's a-anisotropic norm, its H2 limit ‖F‖₂²/lw (a = 0) and its H∞ limit λmax(Λ) (a = ∞),
-/// squared (seed 003 §2).
-fn anisotropic_figures(exp: &Experiment, real: &Realization, a: f64) -> Result<AnisotropicFigures> {
+/// squared (seed 003 §2), with Λ's eigendecomposition where they come from it (the dense route).
+fn anisotropic_figures(
+    exp: &Experiment,
+    real: &Realization,
+    a: f64,
+) -> Result<(AnisotropicFigures, Option<crate::analysis::anisotropy::GramEigen>)> {
     let p = &exp.plant;
     if p.nw() * p.steps() > DENSE_NORM_MAX_INPUTS && !matches!(p.measurement, Measurement::Markov(_)) {
         let lemma = crate::analysis::lemma1::Lemma1::new(p, real)?;
         let sq = |a: f64| lemma.norm(a).map(|n| n.value.powi(2));
-        return Ok(AnisotropicFigures { norm_sq: sq(a)?, h2_sq: sq(0.0)?, hinf_sq: sq(f64::INFINITY)? });
+        return Ok((AnisotropicFigures { norm_sq: sq(a)?, h2_sq: sq(0.0)?, hinf_sq: sq(f64::INFINITY)? }, None));
     }
-    let (mu, _) = crate::numerics::linalg::sym_eigen(&crate::analysis::anisotropy::error_gram(p, real)?)?;
-    let mu: Vec<f64> = mu.into_iter().map(|m| m.max(0.0)).collect();
+    let eigen = crate::analysis::anisotropy::gram_eigen(p, real)?;
+    let mu: Vec<f64> = eigen.values.iter().map(|m| m.max(0.0)).collect();
     let norm = crate::analysis::anisotropy::anisotropic_norm_from_eigenvalues(&mu, a)?;
-    Ok(AnisotropicFigures {
+    let figures = AnisotropicFigures {
         norm_sq: norm.value.powi(2),
         h2_sq: mu.iter().sum::<f64>() / mu.len() as f64,
         hinf_sq: mu.iter().cloned().fold(0.0, f64::max),
-    })
+    };
+    Ok((figures, Some(eigen)))
 }
 
 /// A filter's exact worst case over the experiment's uncertainty: covariances over their sets

@@ -126,6 +126,16 @@ fn exact_of(p: &Plant, r: &Realization, setup: &Setup) -> Result<ExactError> {
     }
 }
 
+/// [`exact_of`] for pairs that differ only in their outputs (one state recursion), each refused
+/// for `filter` if double precision cannot resolve it, the first in order reported.
+fn trusted_exact_of(pairs: &[(&Plant, &Realization)], setup: &Setup, filter: &str) -> Result<Vec<ExactError>> {
+    let errors = match &setup.joint_moments {
+        None => exact::errors_with_mean(pairs, &setup.covariances, setup.w_mean.as_ref()),
+        Some((mean, jcov)) => exact::errors_joint(pairs, mean, jcov)?,
+    };
+    errors.into_iter().map(|e| e.trusted(filter)).collect()
+}
+
 /// Every filter's exact error in a scenario, each refused if double precision cannot resolve it,
 /// and the error forms the Monte Carlo simulates in: every filter's where all have one and the
 /// engine may go without the plant ([`Engine::plant_free`]), else those of the filters resolved
@@ -247,7 +257,7 @@ pub(super) fn outcome(engine: &Engine, p: Prepared, source: &mut Source) -> Resu
     // NEES and NIS from the same exact recursions, each projected output checked like the error
     // itself.
     let square = |name: &str, n: &Normalized, p: &Plant, r: &Realization| -> Result<nees::PerStep> {
-        let trusted = |p: &Plant, r: &Realization| exact_of(p, r, &setup)?.trusted(name);
+        let trusted = |pairs: &[(&Plant, &Realization)]| trusted_exact_of(pairs, &setup, name);
         Ok(nees::exact(&n.weights, &nees::error_moments(p, r, &trusted)?))
     };
     let squares = engine

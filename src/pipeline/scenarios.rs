@@ -152,7 +152,10 @@ fn joint_input(
         }
         InputChoice::AnisotropicWorstFor { filter, anisotropy } => {
             let real = &filters[*filter].design.realization;
-            let (norm, sigma) = crate::analysis::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?;
+            let (norm, sigma) = match &filters[*filter].gram_eigen {
+                Some(eigen) => crate::analysis::anisotropy::worst_from_eigen(eigen, *anisotropy)?,
+                None => crate::analysis::anisotropy::realization_norm(&exp.plant, real, *anisotropy)?,
+            };
             // Σ(q) has tr Σ = lw; give it the power of white nominal noise.
             let w = exp.nominal.w();
             let joint = anisotropic_input(exp, &(sigma * (w.trace() / w.nrows() as f64)));

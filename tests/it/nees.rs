@@ -115,8 +115,8 @@ fn a_misspecified_kalman_filter_is_overconfident() {
     assert!(avg > 2.0, "over-confident: average NEES {avg}");
     let d = &out.filters[k];
     let cov = d.design.design_covariance.as_ref().unwrap();
-    let at = |p: &filterbench::model::plant::Plant, r: &filterbench::filter::realization::Realization| {
-        Ok(filterbench::analysis::exact::error(p, r, cov))
+    let at = |pairs: &[(&filterbench::model::plant::Plant, &filterbench::filter::realization::Realization)]| {
+        Ok(filterbench::analysis::exact::errors(pairs, cov))
     };
     let m = filterbench::analysis::nees::error_moments(&exp.plant, &d.design.realization, &at).unwrap();
     for (step, (mk, c)) in m.iter().zip(d.claimed.as_ref().unwrap().per_step.iter()).enumerate() {

@@ -31,6 +31,8 @@ mod sensitivity;
 pub(crate) use augmented::{Augmented, augmented};
 pub use exact_error::{Coordinates, ExactError, MAX_DIGITS_LOST, Resolution};
 pub use form::*;
-pub use moments::{deterministic_error, error, error_joint, error_with_mean, mean_error};
+pub use moments::{
+    deterministic_error, error, error_joint, error_with_mean, errors, errors_joint, errors_with_mean, mean_error,
+};
 pub use propagate::joint_offset;
 pub use sensitivity::*;

@@ -82,6 +82,21 @@ pub(super) fn propagate(
     input: &Input,
     system: &dyn Fn(usize) -> Vec<Augmented>,
 ) -> ExactError {
+    propagate_outputs(plant, start, input, &[system]).pop().expect("one output")
+}
+
+/// [`propagate`] for several outputs of one state recursion: `systems[0]` gives the F, E (and
+/// known-input) matrices the moments are carried with, and every system its own H and G, so each
+/// output's error is what [`propagate`] returns for it alone, the same bits, for one pass over the
+/// horizon (the NEES moments read nz(nz + 1)/2 projections of one error, `nees::error_moments`).
+/// Every system must share `systems[0]`'s F, E and terms' F, E.
+pub(super) fn propagate_outputs(
+    plant: &Plant,
+    start: &Start,
+    input: &Input,
+    systems: &[&dyn Fn(usize) -> Vec<Augmented>],
+) -> Vec<ExactError> {
+    let outputs = systems.len();
     let nw = plant.nw();
     let nxi = start.m.len();
     let probs = plant.mode_probabilities();
@@ -98,11 +113,12 @@ pub(super) fn propagate(
     // whole matrix (it multiplies fewer than six columns in its own loops, not matrixmultiply's).
     const KEPT: usize = 6;
     let mut first = 0;
-    let mut per_step = Vec::with_capacity(plant.steps());
-    let mut per_mode = vec![0.0; q];
-    let mut magnitudes = Vec::with_capacity(plant.steps());
+    let mut per_step = vec![Vec::with_capacity(plant.steps()); outputs];
+    let mut per_mode = vec![vec![0.0; q]; outputs];
+    let mut magnitudes = vec![Vec::with_capacity(plant.steps()); outputs];
     for k in 0..plant.steps() {
-        let augs = system(k);
+        let all: Vec<Vec<Augmented>> = systems.iter().map(|system| system(k)).collect();
+        let augs = &all[0];
         // The moments of w[k]: mean μ and raw second moment R (zero when w[k] is not drawn).
         let (mu, rkk, off) = match input {
             Input::White { w, mean } => {
@@ -116,8 +132,8 @@ pub(super) fn propagate(
             },
         };
         let r = plant.r_at(k);
-        let mut mse = 0.0;
-        let mut magnitude = 0.0;
+        let mut mse = vec![0.0; outputs];
+        let mut magnitude = vec![0.0; outputs];
         let mut next: Vec<(Vector, Mat, Option<Mat>)> = Vec::with_capacity(q);
         let counted = plant.counts(k);
         // The first column step k + 1 reads (w[k + 1]'s offset), never past the last KEPT.
@@ -134,19 +150,21 @@ pub(super) fn propagate(
                 (None, _) => &m[j] * mu.transpose(),
             };
             // The mean matrices and each factor's term (module docs) add up in the second moment.
-            let mut ej = 0.0;
-            for t in a.with_terms() {
-                ej += (&t.h * &y[j] * t.h.transpose()).trace()
-                    + 2.0 * (&t.h * &zk * t.g.transpose()).trace()
-                    + pj * (&t.g * &rkk * t.g.transpose()).trace();
-                let (habs, gabs) = (t.h.abs(), t.g.abs());
-                magnitude += abs_dot(&(habs.transpose() * &habs), &y[j])
-                    + 2.0 * abs_dot(&(habs.transpose() * &gabs), &zk)
-                    + pj * abs_dot(&(gabs.transpose() * &gabs), &rkk);
-            }
-            mse += ej;
-            if counted {
-                per_mode[j] += ej;
+            for (o, out) in all.iter().enumerate() {
+                let mut ej = 0.0;
+                for t in out[j].with_terms() {
+                    ej += (&t.h * &y[j] * t.h.transpose()).trace()
+                        + 2.0 * (&t.h * &zk * t.g.transpose()).trace()
+                        + pj * (&t.g * &rkk * t.g.transpose()).trace();
+                    let (habs, gabs) = (t.h.abs(), t.g.abs());
+                    magnitude[o] += abs_dot(&(habs.transpose() * &habs), &y[j])
+                        + 2.0 * abs_dot(&(habs.transpose() * &gabs), &zk)
+                        + pj * abs_dot(&(gabs.transpose() * &gabs), &rkk);
+                }
+                mse[o] += ej;
+                if counted {
+                    per_mode[o][j] += ej;
+                }
             }
             if k == plant.horizon {
                 continue;
@@ -179,8 +197,10 @@ pub(super) fn propagate(
             };
             next.push((v + pj * c, yn, zn));
         }
-        per_step.push(mse);
-        magnitudes.push(magnitude);
+        for o in 0..outputs {
+            per_step[o].push(mse[o]);
+            magnitudes[o].push(magnitude[o]);
+        }
         if k == plant.horizon {
             break;
         }
@@ -195,9 +215,16 @@ pub(super) fn propagate(
             });
         }
     }
-    let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
-    let resolution = resolution(&per_step, &magnitudes);
-    ExactError { per_step, total, per_mode, resolution, coordinates: Coordinates::Plant, untracked: None }
+    per_step
+        .into_iter()
+        .zip(per_mode)
+        .zip(&magnitudes)
+        .map(|((per_step, per_mode), magnitudes)| {
+            let total = per_step.iter().enumerate().filter(|(k, _)| plant.counts(*k)).map(|(_, v)| v).sum();
+            let resolution = resolution(&per_step, magnitudes);
+            ExactError { per_step, total, per_mode, resolution, coordinates: Coordinates::Plant, untracked: None }
+        })
+        .collect()
 }
 
 /// The worst step's digits lost. Each step is measured against its own value or a millionth of
