@@ -123,3 +123,43 @@ fn a_misspecified_kalman_filter_is_overconfident() {
         assert!((mk.trace() - c).abs() <= 1e-9 * c.abs().max(1.0), "step {step}: tr {} vs claimed {c}", mk.trace());
     }
 }
+
+/// The projections of the error that the NEES moments read share one state recursion
+/// (`exact::errors_joint`, `exact::errors`): every moment is the same bits as with each projection
+/// run alone, under a correlated joint input with dropouts and a known input (filtering, so Df ≠ 0)
+/// and under white noise. Deterministic: compared exactly.
+#[test]
+fn error_moments_from_one_recursion_equal_each_projection_alone() {
+    use filterbench::analysis::{exact, nees};
+    use filterbench::filter::realization::Realization;
+    use filterbench::model::plant::Plant;
+    use filterbench::numerics::linalg::{Mat, Vector};
+    use filterbench::sim::noise::JointInput;
+
+    let exp = crate::aniso_dropout::dropout_shapes("filtering");
+    assert!(exp.plant.nz() >= 2, "the test needs cross moments");
+    let real = filterbench::families::kalman::kalman(&exp.plant, &exp.nominal, filterbench::config::Pattern::Filtering);
+    let d = exp.plant.nx() + exp.plant.steps() * exp.plant.nw();
+    let JointInput::Correlated { factor } = JointInput::random_covariance(&Mat::identity(d, d), 5) else {
+        unreachable!()
+    };
+    let (mean, cov) = (Vector::from_fn(d, |i, _| 0.1 * (i % 3) as f64), &factor * factor.transpose());
+    let together = |pairs: &[(&Plant, &Realization)]| exact::errors_joint(pairs, &mean, &cov);
+    let alone = |pairs: &[(&Plant, &Realization)]| {
+        pairs.iter().map(|(p, r)| exact::error_joint(p, r, &mean, &cov)).collect::<Result<Vec<_>, _>>()
+    };
+    let (a, b) = (
+        nees::error_moments(&exp.plant, &real, &together).unwrap(),
+        nees::error_moments(&exp.plant, &real, &alone).unwrap(),
+    );
+    assert!(a.iter().any(|m| m[(0, 1)] != 0.0), "the joint input correlates the outputs");
+    assert_eq!(a, b, "joint input: one recursion against each projection alone");
+    let together = |pairs: &[(&Plant, &Realization)]| Ok(exact::errors(pairs, &exp.nominal));
+    let alone =
+        |pairs: &[(&Plant, &Realization)]| Ok(pairs.iter().map(|(p, r)| exact::error(p, r, &exp.nominal)).collect());
+    let (a, b) = (
+        nees::error_moments(&exp.plant, &real, &together).unwrap(),
+        nees::error_moments(&exp.plant, &real, &alone).unwrap(),
+    );
+    assert_eq!(a, b, "white noise: one recursion against each projection alone");
+}
