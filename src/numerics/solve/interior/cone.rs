@@ -7,6 +7,9 @@ use nalgebra::{Const, DefaultAllocator, DimDiff, DimSub, Dyn, OMatrix, U1};
 use super::sandwich::sandwich;
 pub(super) use super::sandwich::{SQ2, Scratch};
 use crate::numerics::linalg::Mat;
+
+/// A second-order cone up to this size forms λ = W z on the stack (seed 003's tree is SOC(3)).
+const SOC_ON_STACK: usize = 16;
 pub(super) use crate::numerics::linalg::unpack_triangle as smat;
 
 #[derive(Clone, Copy, Debug)]
@@ -287,86 +290,93 @@ pub(super) fn apply(sc: &Scaling, op: Op, v: &[f64], out: &mut [f64], w: &mut Sc
     }
 }
 
-/// The Nesterov–Todd scaling of one cone at (s, z), and λ = W z; None if s or z has left the
-/// cone's interior numerically.
-pub(super) fn scaling(kind: Kind, s: &[f64], z: &[f64], lam: &mut [f64]) -> Option<Scaling> {
-    match kind {
-        Kind::Nonnegative => {
+/// The Nesterov–Todd scaling of one cone at (s, z) into `out` (the cone's previous scaling, whose
+/// storage is reused: the iterations allocate nothing per cone), and λ = W z; false if s or z has
+/// left the cone's interior numerically.
+pub(super) fn scaling(s: &[f64], z: &[f64], lam: &mut [f64], out: &mut Scaling) -> bool {
+    match out {
+        Scaling::Nonnegative(d) => {
             if s.iter().chain(z).any(|v| *v <= 0.0) {
-                return None;
+                return false;
             }
             for i in 0..s.len() {
                 lam[i] = (s[i] * z[i]).sqrt();
+                d[i] = (s[i] / z[i]).sqrt();
             }
-            Some(Scaling::Nonnegative(s.iter().zip(z).map(|(s, z)| (s / z).sqrt()).collect()))
+            true
         }
-        Kind::SecondOrder => {
+        Scaling::SecondOrder(winv) => {
             let n = s.len();
             let jn = |x: &[f64]| x[0] * x[0] - dot(&x[1..], &x[1..]);
             let (sn, zn) = (jn(s), jn(z));
             if sn <= 0.0 || zn <= 0.0 || s[0] <= 0.0 || z[0] <= 0.0 {
-                return None;
+                return false;
             }
             let (sn, zn) = (sn.sqrt(), zn.sqrt());
             let g = ((1.0 + dot(s, z) / (sn * zn)) / 2.0).sqrt();
             // w̄ = (s̄ + J z̄)/(2γ); W = β [w̄0, w̄1ᵀ; w̄1, I + w̄1 w̄1ᵀ/(1 + w̄0)], W⁻¹ = J W J / β².
-            let wb: Vec<f64> = (0..n)
-                .map(|i| if i == 0 { s[0] / sn + z[0] / zn } else { s[i] / sn - z[i] / zn } / (2.0 * g))
-                .collect();
+            // w̄ goes into λ's rows until λ = W z is formed; W's entries are formed where read.
+            let wb = &mut *lam;
+            for i in 0..n {
+                wb[i] = if i == 0 { s[0] / sn + z[0] / zn } else { s[i] / sn - z[i] / zn } / (2.0 * g);
+            }
             let beta = (sn / zn).sqrt();
-            let mut w = Mat::zeros(n, n);
-            let mut winv = Mat::zeros(n, n);
+            let v = |wb: &[f64], i: usize, j: usize| {
+                if i == 0 || j == 0 { wb[i.max(j)] } else { f64::from(u8::from(i == j)) + wb[i] * wb[j] / (1.0 + wb[0]) }
+            };
             for i in 0..n {
                 for j in 0..n {
-                    let v = if i == 0 || j == 0 {
-                        wb[i.max(j)]
-                    } else {
-                        f64::from(u8::from(i == j)) + wb[i] * wb[j] / (1.0 + wb[0])
-                    };
                     let sign = if (i == 0) != (j == 0) { -1.0 } else { 1.0 };
-                    w[(i, j)] = beta * v;
-                    winv[(i, j)] = sign * v / beta;
+                    winv[(i, j)] = sign * v(wb, i, j) / beta;
                 }
             }
-            for (i, l) in lam.iter_mut().enumerate() {
-                *l = (0..n).map(|j| w[(i, j)] * z[j]).sum();
+            // λ = W z with W = β v: z's weights are formed from w̄ before λ overwrites it.
+            let mut wz = [0.0; SOC_ON_STACK];
+            let mut heap = Vec::new();
+            let wz: &mut [f64] = if n <= SOC_ON_STACK { &mut wz[..n] } else { heap.resize(n, 0.0); &mut heap };
+            for (i, o) in wz.iter_mut().enumerate() {
+                *o = (0..n).map(|j| beta * v(wb, i, j) * z[j]).sum();
             }
-            Some(Scaling::SecondOrder(winv))
+            lam.copy_from_slice(wz);
+            true
         }
-        Kind::Psd(n) => {
+        Scaling::Psd { rinv, rinv_t, m } => {
+            let n = rinv.nrows();
             // The block sizes of seed 003's programs after the chordal decomposition (2 to 10; 16
             // undecomposed): at a size known to the compiler nalgebra keeps the matrices on the
             // stack and multiplies them in plain loops.
-            let (rinv, m, sig) = match n {
-                2 => psd_scaling(Const::<2>, s, z)?,
-                3 => psd_scaling(Const::<3>, s, z)?,
-                4 => psd_scaling(Const::<4>, s, z)?,
-                5 => psd_scaling(Const::<5>, s, z)?,
-                6 => psd_scaling(Const::<6>, s, z)?,
-                7 => psd_scaling(Const::<7>, s, z)?,
-                8 => psd_scaling(Const::<8>, s, z)?,
-                9 => psd_scaling(Const::<9>, s, z)?,
-                10 => psd_scaling(Const::<10>, s, z)?,
-                12 => psd_scaling(Const::<12>, s, z)?,
-                16 => psd_scaling(Const::<16>, s, z)?,
-                _ => psd_scaling(Dyn(n), s, z)?,
+            let inside = match n {
+                2 => psd_scaling(Const::<2>, s, z, rinv, m, lam),
+                3 => psd_scaling(Const::<3>, s, z, rinv, m, lam),
+                4 => psd_scaling(Const::<4>, s, z, rinv, m, lam),
+                5 => psd_scaling(Const::<5>, s, z, rinv, m, lam),
+                6 => psd_scaling(Const::<6>, s, z, rinv, m, lam),
+                7 => psd_scaling(Const::<7>, s, z, rinv, m, lam),
+                8 => psd_scaling(Const::<8>, s, z, rinv, m, lam),
+                9 => psd_scaling(Const::<9>, s, z, rinv, m, lam),
+                10 => psd_scaling(Const::<10>, s, z, rinv, m, lam),
+                12 => psd_scaling(Const::<12>, s, z, rinv, m, lam),
+                16 => psd_scaling(Const::<16>, s, z, rinv, m, lam),
+                _ => psd_scaling(Dyn(n), s, z, rinv, m, lam),
             };
-            let rinv_t = rinv.transpose();
-            lam.iter_mut().for_each(|v| *v = 0.0);
-            let mut k = 0;
-            for (j, v) in sig.iter().enumerate() {
-                lam[k + j] = *v;
-                k += j + 1;
+            if !inside {
+                return false;
             }
-            Some(Scaling::Psd { rinv, rinv_t, m })
+            for j in 0..n {
+                for i in 0..n {
+                    rinv_t[(i, j)] = rinv[(j, i)];
+                }
+            }
+            true
         }
     }
 }
 
 /// A PSD cone's Nesterov–Todd scaling (Vandenberghe's CVXOPT paper §4.4): with Cholesky factors
 /// S = L_s L_sᵀ, Z = L_z L_zᵀ and L_zᵀ L_s = U Σ Vᵀ, R = L_s V Σ^{-1/2}; returns R⁻¹ = Σ^{-1/2} Uᵀ L_zᵀ,
-/// M = R⁻ᵀR⁻¹ and Σ (λ's diagonal), or None if s or z has left the cone's interior numerically.
-fn psd_scaling<D>(dim: D, s: &[f64], z: &[f64]) -> Option<(Mat, Mat, Vec<f64>)>
+/// into `rinv_out`, M = R⁻ᵀR⁻¹ into `m_out` and λ = Σ (diagonal, in svec form) into `lam`; false if
+/// s or z has left the cone's interior numerically.
+fn psd_scaling<D>(dim: D, s: &[f64], z: &[f64], rinv_out: &mut Mat, m_out: &mut Mat, lam: &mut [f64]) -> bool
 where
     D: DimSub<U1>,
     DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,
@@ -379,35 +389,45 @@ where
             if i == j { x } else { x / SQ2 }
         })
     };
-    let ls = unpack(s).cholesky()?.l();
-    let lz = unpack(z).cholesky()?.l();
+    let (Some(ls), Some(lz)) = (unpack(s).cholesky(), unpack(z).cholesky()) else {
+        return false;
+    };
+    let (ls, lz) = (ls.l(), lz.l());
     // G = L_zᵀ L_s = U Σ Vᵀ. Its singular vectors from the symmetric eigenproblem GᵀG = V Σ² Vᵀ
     // (about half an SVD's work), U = G V Σ⁻¹; that squares G's condition number, so where
     // σ_max/σ_min > 10⁴ (a relative error above 10⁻⁸ in σ_min²) the SVD itself is taken.
     let g = lz.tr_mul(&ls);
     let eig = g.tr_mul(&g).symmetric_eigen();
-    let sig: Vec<f64> = eig.eigenvalues.iter().map(|e| e.max(0.0).sqrt()).collect();
+    let mut sig = eig.eigenvalues.map(|e| e.max(0.0).sqrt());
     let (smin, smax) = sig.iter().fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(*v), b.max(*v)));
-    let (rinv, sig) = if smin > 0.0 && smax < 1e4 * smin {
+    let rinv = if smin > 0.0 && smax < 1e4 * smin {
         // R⁻¹ = Σ^{-3/2} Vᵀ Gᵀ L_zᵀ, with P = Vᵀ Gᵀ.
         let p = eig.eigenvectors.tr_mul(&g.transpose());
         let h = p.transpose().tr_mul(&lz.transpose());
-        let rinv = OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| h[(i, j)] / (sig[i] * sig[i].sqrt()));
-        (rinv, sig)
+        OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| h[(i, j)] / (sig[i] * sig[i].sqrt()))
     } else {
         let svd = Mat::from_iterator(n, n, g.iter().copied()).svd(true, true);
-        let (u, sig) = (svd.u?, svd.singular_values);
-        if sig.iter().any(|v| *v <= 0.0 || !v.is_finite()) {
-            return None;
+        let Some(u) = svd.u else {
+            return false;
+        };
+        if svd.singular_values.iter().any(|v| *v <= 0.0 || !v.is_finite()) {
+            return false;
         }
-        let rinv = OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| {
+        sig.iter_mut().zip(svd.singular_values.iter()).for_each(|(a, b)| *a = *b);
+        OMatrix::<f64, D, D>::from_fn_generic(dim, dim, |i, j| {
             (0..n).map(|k| u[(k, i)] * lz[(j, k)]).sum::<f64>() / sig[i].sqrt()
-        });
-        (rinv, sig.iter().copied().collect())
+        })
     };
     // Every product is nalgebra's dot-based Aᵀ B: a general product of a dynamic size would go
     // through matrixmultiply, whose kernel (and rounding) depends on the processor.
     let m = rinv.tr_mul(&rinv);
-    let dynamic = |a: &OMatrix<f64, D, D>| Mat::from_iterator(n, n, a.iter().copied());
-    Some((dynamic(&rinv), dynamic(&m), sig))
+    rinv_out.as_mut_slice().copy_from_slice(rinv.as_slice());
+    m_out.as_mut_slice().copy_from_slice(m.as_slice());
+    lam.iter_mut().for_each(|v| *v = 0.0);
+    let mut k = 0;
+    for (j, v) in sig.iter().enumerate() {
+        lam[k + j] = *v;
+        k += j + 1;
+    }
+    true
 }

@@ -20,7 +20,10 @@
 //! clarabel's own chordal decomposition (see `solve`), so the n³ work of a 16 × 16 block becomes
 //! that of blocks of 10, 6 and 3. The cones' work (scalings, products, step lengths, the normal
 //! matrix's terms) runs in parallel, a cone's result depending on its own rows only and every sum
-//! over cones taken in a fixed order, so the result is the same bits on any number of threads. What
+//! over cones taken in a fixed order, so the result is the same bits on any number of threads; each
+//! entry of the normal matrix sums its own terms, also in parallel, and the serial factorization
+//! runs beside the predictor's right-hand side, which does not need it. The scalings are written
+//! over the previous iteration's, so an iteration allocates nothing per cone. What
 //! keeps it accurate: each normal-equations solve is finished by conjugate gradients on the operator
 //! Aᵀ W⁻¹ W⁻ᵀ A itself, preconditioned by the factored matrix (one step or none where the
 //! factorization is accurate; a few more near the optimum of a decomposed program, where the
@@ -132,6 +135,25 @@ fn normal_op(d: &Data, sc: &[Scaling], v: &[f64], out: &mut [f64], q1: &mut [f64
     d.atz(q2, out);
 }
 
+/// The normal equations' right-hand side for the scaled complementarity term u,
+/// −r_d − Aᵀ W⁻¹ (W⁻ᵀ r_p + u), into `rhs`, given W⁻ᵀ r_p (`scaled_rz`) and r_d (`rx`).
+fn right_side(
+    d: &Data,
+    sc: &[Scaling],
+    u: &[f64],
+    scaled_rz: &[f64],
+    rx: &[f64],
+    (q1, q2, t): (&mut [f64], &mut [f64], &mut [f64]),
+    rhs: &mut [f64],
+) {
+    q1.iter_mut().zip(u.iter().zip(scaled_rz)).for_each(|(w, (u, r))| *w = r + u);
+    apply_all(d, sc, Op::Inverse, q1, q2);
+    d.atz(q2, t);
+    for i in 0..rhs.len() {
+        rhs[i] = -rx[i] - t[i];
+    }
+}
+
 /// Shifts v into the cone's interior (Vandenberghe §7.1's initial point): v + (1 + t) e where t
 /// is the most negative eigenvalue, if v is not interior already.
 fn shift_inside(d: &Data, v: &mut [f64]) {
@@ -202,7 +224,8 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
     let normal = Normal::new(&d);
     let mut hv = vec![0.0; normal.rowval.len()];
     let mut terms = vec![0.0; normal.terms()];
-    let identity_scaling: Vec<Scaling> = d
+    // Each iteration writes the cones' scalings over these.
+    let mut sc: Vec<Scaling> = d
         .cones
         .iter()
         .map(|c| match c.kind {
@@ -213,7 +236,7 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
             }
         })
         .collect();
-    normal.assemble(&d, &identity_scaling, &mut terms, &mut hv);
+    normal.assemble(&d, &sc, &mut terms, &mut hv);
     let h = CscMatrix::new(n, n, normal.colptr.clone(), normal.rowval.clone(), hv.clone());
     let settings = QDLDLSettingsBuilder::default().regularize_enable(false).build().map_err(|e| e.to_string())?;
     let mut fact = QDLDLFactorisation::new(&h, Some(settings)).map_err(|e| format!("the normal matrix: {e:?}"))?;
@@ -246,16 +269,16 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
     let mut since_best = 0;
     let mut history = Vec::new();
     for it in 0..MAX_ITER {
-        let sc: Option<Vec<Scaling>> = d
+        let inside = d
             .cones
             .par_iter()
+            .zip(sc.par_iter_mut())
             .zip(parts(&d, &mut lam))
             .with_min_len(CONES_PER_TASK)
-            .map(|(c, l)| scaling(c.kind, &s[c.rows.clone()], &z[c.rows.clone()], l))
-            .collect();
-        let Some(sc) = sc else {
+            .all(|((c, w), l)| scaling(&s[c.rows.clone()], &z[c.rows.clone()], l, w));
+        if !inside {
             return finish(best, "an iterate left the cone's interior numerically");
-        };
+        }
         d.atz(&z, &mut rx);
         rx.iter_mut().zip(cost).for_each(|(r, c)| *r += c);
         d.ax(&x, &mut rz);
@@ -267,18 +290,24 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
         let relgap = gap / pcost.abs().max(1.0);
         let measure = feasibility.max(relgap);
         if best.as_ref().is_none_or(|b| measure < b.measure) {
-            best = Some(Outcome {
-                x: x.clone(),
-                s: s.clone(),
-                z: z.clone(),
-                iterations: it as u32,
-                primal_objective: pcost,
-                dual_objective: dcost,
-                measure,
-                feasibility,
-                gap: relgap,
-                almost: measure > TOL,
+            // The best point's vectors are allocated once and overwritten.
+            let b = best.get_or_insert_with(|| Outcome {
+                x: vec![0.0; n],
+                s: vec![0.0; m],
+                z: vec![0.0; m],
+                iterations: 0,
+                primal_objective: 0.0,
+                dual_objective: 0.0,
+                measure: 0.0,
+                feasibility: 0.0,
+                gap: 0.0,
+                almost: false,
             });
+            b.x.copy_from_slice(&x);
+            b.s.copy_from_slice(&s);
+            b.z.copy_from_slice(&z);
+            (b.iterations, b.primal_objective, b.dual_objective) = (it as u32, pcost, dcost);
+            (b.measure, b.feasibility, b.gap, b.almost) = (measure, feasibility, relgap, measure > TOL);
             since_best = 0;
         } else {
             since_best += 1;
@@ -292,19 +321,29 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
             break;
         }
         normal.assemble(&d, &sc, &mut terms, &mut hv);
-        fact.update_values(&every, &hv);
-        if fact.refactor().is_err() {
+        // The factorization runs on one thread; the predictor's right-hand side, which does not
+        // need it, is formed on the other meanwhile (the same operations either way).
+        u.iter_mut().zip(&lam).for_each(|(u, l)| *u = -l);
+        let (factored, ()) = rayon::join(
+            || {
+                fact.update_values(&every, &hv);
+                fact.refactor()
+            },
+            || {
+                apply_all(&d, &sc, Op::InvTranspose, &rz, &mut scaled_rz);
+                let scratch = (&mut q1[..], &mut q2[..], &mut t[..]);
+                right_side(&d, &sc, &u, &scaled_rz, &rx, scratch, &mut rhs);
+            },
+        );
+        if factored.is_err() {
             return finish(best, "the normal matrix could not be factored");
         }
         // The Newton direction for the scaled complementarity right-hand side u (the predictor's
         // −λ, the corrector's λ⁻¹∘(…)): Δx, and the scaled Δs̃ = −W⁻ᵀ(AΔx + r_p), Δz̃ = u − Δs̃.
-        apply_all(&d, &sc, Op::InvTranspose, &rz, &mut scaled_rz);
-        let mut direction = |u: &[f64], dx: &mut [f64], dst: &mut [f64], dzt: &mut [f64]| {
-            q1.iter_mut().zip(u.iter().zip(&scaled_rz)).for_each(|(w, (u, r))| *w = r + u);
-            apply_all(&d, &sc, Op::Inverse, &q1, &mut q2);
-            d.atz(&q2, &mut t);
-            for i in 0..n {
-                rhs[i] = -rx[i] - t[i];
+        // `rhs_ready`: `rhs` already holds u's right-hand side.
+        let mut direction = |u: &[f64], rhs_ready: bool, dx: &mut [f64], dst: &mut [f64], dzt: &mut [f64]| {
+            if !rhs_ready {
+                right_side(&d, &sc, u, &scaled_rz, &rx, (&mut q1[..], &mut q2[..], &mut t[..]), &mut rhs);
             }
             dx.copy_from_slice(&rhs);
             fact.solve(dx);
@@ -372,9 +411,8 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
             };
             over_runs(over_runs(cap, step_bound), max_step)
         };
-        // Predictor.
-        u.iter_mut().zip(&lam).for_each(|(u, l)| *u = -l);
-        direction(&u, &mut dx, &mut dsa, &mut dza);
+        // Predictor (u = −λ, its right-hand side formed above).
+        direction(&u, true, &mut dx, &mut dsa, &mut dza);
         let alpha = step_to_boundary(&dsa, &dza, 1.0);
         let predicted: f64 = (0..m).map(|i| (lam[i] + alpha * dsa[i]) * (lam[i] + alpha * dza[i])).sum();
         let sigma = (predicted / gap).clamp(0.0, 1.0).powi(3);
@@ -392,7 +430,7 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
                 jdiv(c.kind, &lam[r], sq, out);
             },
         );
-        direction(&u, &mut dx, &mut ds, &mut dz);
+        direction(&u, false, &mut dx, &mut ds, &mut dz);
         let alpha = STEP * step_to_boundary(&ds, &dz, 1.0 / STEP);
         // Δs = −(AΔx + r_p) in the original coordinates, not Wᵀ Δs̃: the two agree in exact
         // arithmetic, but this keeps the primal residual falling as (1 − α) r_p however

@@ -140,6 +140,10 @@ pub(super) struct Normal {
     pub(super) rowval: Vec<usize>,
     /// Per cone, the entries of H its terms add to, in the order `assemble` visits them.
     pub(super) slots: Vec<Vec<usize>>,
+    /// The same map read the other way (CSR over H's entries): entry k is the sum of the terms
+    /// `sources[from[k]..from[k + 1]]`, listed in term order, that is cone after cone.
+    from: Vec<usize>,
+    sources: Vec<usize>,
 }
 
 impl Normal {
@@ -167,8 +171,22 @@ impl Normal {
             rowval.extend_from_slice(set);
             colptr.push(rowval.len());
         }
-        let mut normal = Normal { colptr, rowval, slots: Vec::new() };
+        let mut normal = Normal { colptr, rowval, slots: Vec::new(), from: Vec::new(), sources: Vec::new() };
         normal.slots = d.cones.iter().map(|c| normal.visit(d, c)).collect();
+        let mut from = vec![0usize; normal.rowval.len() + 1];
+        for &k in normal.slots.iter().flatten() {
+            from[k + 1] += 1;
+        }
+        for k in 0..normal.rowval.len() {
+            from[k + 1] += from[k];
+        }
+        let mut next = from.clone();
+        let mut sources = vec![0; normal.terms()];
+        for (t, &k) in normal.slots.iter().flatten().enumerate() {
+            sources[next[k]] = t;
+            next[k] += 1;
+        }
+        (normal.from, normal.sources) = (from, sources);
         normal
     }
 
@@ -211,8 +229,9 @@ impl Normal {
     }
 
     /// H = Σ_cones A_cᵀ W_c⁻¹ W_c⁻ᵀ A_c. The cones' terms are formed in parallel into `terms` (one
-    /// slice per cone, as long as its slots) and added in cone order, so the sums do not depend on
-    /// the thread count.
+    /// slice per cone, as long as its slots); each entry of H then sums its own terms in cone order,
+    /// also in parallel, so the sums do not depend on the thread count (and are the bits of adding
+    /// the cones' terms into H one cone after the other).
     pub(super) fn assemble(&self, d: &Data, sc: &[Scaling], terms: &mut [f64], vals: &mut [f64]) {
         let mut parts = split_mut(terms, self.slots.iter().map(Vec::len));
         d.cones
@@ -221,12 +240,15 @@ impl Normal {
             .zip(parts.par_iter_mut())
             .with_min_len(CONES_PER_TASK)
             .for_each(|((cone, s), out)| cone_terms(d, cone, s, out));
-        vals.iter_mut().for_each(|v| *v = 0.0);
-        for (slots, part) in self.slots.iter().zip(&parts) {
-            for (&k, v) in slots.iter().zip(part.iter()) {
-                vals[k] += v;
+        drop(parts);
+        let terms = &*terms;
+        vals.par_iter_mut().enumerate().with_min_len(ROWS_PER_TASK).for_each(|(k, v)| {
+            let mut acc = 0.0;
+            for &t in &self.sources[self.from[k]..self.from[k + 1]] {
+                acc += terms[t];
             }
-        }
+            *v = acc;
+        });
     }
 
     /// The length of `assemble`'s `terms`.
@@ -258,11 +280,9 @@ fn cone_terms(d: &Data, cone: &Cone, s: &Scaling, out: &mut [f64]) {
         Scaling::SecondOrder(winv) => {
             // W⁻² by plain sums, not a dynamic product (whose kernel nalgebra picks by processor).
             let k = winv.nrows();
-            let w2 =
-                crate::numerics::linalg::Mat::from_fn(k, k, |a, b| (0..k).map(|c| winv[(a, c)] * winv[(c, b)]).sum());
             for (a, ra) in cone.rows.clone().enumerate() {
                 for (b, rb) in cone.rows.clone().enumerate() {
-                    pair(ra, rb, w2[(a, b)]);
+                    pair(ra, rb, (0..k).map(|c| winv[(a, c)] * winv[(c, b)]).sum());
                 }
             }
         }
