@@ -7,10 +7,10 @@ use nalgebra::{Const, DefaultAllocator, DimDiff, DimSub, Dyn, OMatrix, U1};
 use super::sandwich::sandwich;
 pub(super) use super::sandwich::{SQ2, Scratch};
 use crate::numerics::linalg::Mat;
+pub(super) use crate::numerics::linalg::unpack_triangle as smat;
 
 /// A second-order cone up to this size forms λ = W z on the stack (seed 003's tree is SOC(3)).
 const SOC_ON_STACK: usize = 16;
-pub(super) use crate::numerics::linalg::unpack_triangle as smat;
 
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Kind {
