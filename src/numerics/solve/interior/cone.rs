@@ -322,7 +322,11 @@ pub(super) fn scaling(s: &[f64], z: &[f64], lam: &mut [f64], out: &mut Scaling) 
             }
             let beta = (sn / zn).sqrt();
             let v = |wb: &[f64], i: usize, j: usize| {
-                if i == 0 || j == 0 { wb[i.max(j)] } else { f64::from(u8::from(i == j)) + wb[i] * wb[j] / (1.0 + wb[0]) }
+                if i == 0 || j == 0 {
+                    wb[i.max(j)]
+                } else {
+                    f64::from(u8::from(i == j)) + wb[i] * wb[j] / (1.0 + wb[0])
+                }
             };
             for i in 0..n {
                 for j in 0..n {
@@ -333,7 +337,12 @@ pub(super) fn scaling(s: &[f64], z: &[f64], lam: &mut [f64], out: &mut Scaling) 
             // λ = W z with W = β v: z's weights are formed from w̄ before λ overwrites it.
             let mut wz = [0.0; SOC_ON_STACK];
             let mut heap = Vec::new();
-            let wz: &mut [f64] = if n <= SOC_ON_STACK { &mut wz[..n] } else { heap.resize(n, 0.0); &mut heap };
+            let wz: &mut [f64] = if n <= SOC_ON_STACK {
+                &mut wz[..n]
+            } else {
+                heap.resize(n, 0.0);
+                &mut heap
+            };
             for (i, o) in wz.iter_mut().enumerate() {
                 *o = (0..n).map(|j| beta * v(wb, i, j) * z[j]).sum();
             }
