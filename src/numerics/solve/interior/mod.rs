@@ -12,7 +12,8 @@
 //!
 //! twice (Mehrotra's predictor and corrector; Vandenberghe, "The CVXOPT linear and quadratic cone
 //! program solvers", 2010, §5–§8 for the scaling, the Jordan algebra and the step), from the
-//! infeasible starting point of its §7.1. What makes it cheaper than clarabel on seed 003's design
+//! infeasible starting point of CVXOPT's `conelp` (the least-norm primal slack and dual point, each
+//! shifted into the cones). What makes it cheaper than clarabel on seed 003's design
 //! programs: a PSD block of the chain (4.42)–(4.43) touches only the variables of steps k and k + 1,
 //! so the normal matrix is a band of about 40 variables with two dense rows (γ², η), factored by
 //! QDLDL with its AMD ordering, and each entry tr(A_i M A_j M) is a sum over the two coefficient
@@ -80,8 +81,12 @@ const MAX_ITER: usize = 120;
 /// Below this measure a slowly converging run stops (see the loop).
 const SLOW: f64 = 1e-6;
 /// The conjugate gradients of a normal-equations solve stop at this relative residual (or after
-/// [`CG_STEPS`]).
-const REFINE: f64 = 1e-12;
+/// [`CG_STEPS`]). Two orders below [`TOL`]: a direction solved to 10⁻¹⁰ moves the iterate by far
+/// less than the stopping test can see (the residuals it tests are recomputed from A, b and c at
+/// every iteration, never carried over from a solve). At 10⁻¹² the a = 20 design's factored solves
+/// (relative residuals 10⁻¹²–2·10⁻¹¹ from its twelfth iteration on) each took one more step, about
+/// a tenth of the design's time (docs/families.md, "Where an iteration's time goes").
+const REFINE: f64 = 1e-10;
 /// At most this many conjugate-gradient steps per normal-equations solve.
 const CG_STEPS: usize = 20;
 /// The fraction of the step to the boundary taken.
@@ -154,8 +159,8 @@ fn right_side(
     }
 }
 
-/// Shifts v into the cone's interior (Vandenberghe §7.1's initial point): v + (1 + t) e where t
-/// is the most negative eigenvalue, if v is not interior already.
+/// Shifts v into the cone's interior (the initial point's last step): v + (1 + t) e where t is
+/// the most negative eigenvalue, if v is not interior already.
 fn shift_inside(d: &Data, v: &mut [f64]) {
     let mut worst = f64::INFINITY;
     each(d, |c, r| {
@@ -242,16 +247,21 @@ fn solve_program(p: &Program, cost: &[f64]) -> Result<Outcome, String> {
     let mut fact = QDLDLFactorisation::new(&h, Some(settings)).map_err(|e| format!("the normal matrix: {e:?}"))?;
     let every: Vec<usize> = (0..hv.len()).collect();
 
-    // Initial point (Vandenberghe §7.1): the Newton system at W = I, AᵀA x = Aᵀb − c, gives
-    // s = b − Ax and z = −s, each then shifted into its cone's interior.
+    // Initial point (CVXOPT's `conelp` without a given start): the least-norm slack, AᵀA x = Aᵀb
+    // and s = b − Ax, and the least-norm dual point, AᵀA y = −c and z = Ay (so that Aᵀz + c = 0),
+    // each then shifted into its cone's interior: two solves with the one factorization. `coneqp`'s
+    // single system, AᵀA x = Aᵀb − c with z = −s, took 208 iterations over `aniso_dropout`'s nine
+    // designs against 201 (docs/families.md, "Where an iteration's time goes").
     let mut x = vec![0.0; n];
     d.atz(p.b, &mut x);
-    x.iter_mut().zip(cost).for_each(|(x, c)| *x -= c);
     fact.solve(&mut x);
     let mut s = vec![0.0; m];
     d.ax(&x, &mut s);
     s.iter_mut().zip(p.b).for_each(|(s, b)| *s = b - *s);
-    let mut z: Vec<f64> = s.iter().map(|v| -v).collect();
+    let mut y: Vec<f64> = cost.iter().map(|c| -c).collect();
+    fact.solve(&mut y);
+    let mut z = vec![0.0; m];
+    d.ax(&y, &mut z);
     shift_inside(&d, &mut s);
     shift_inside(&d, &mut z);
 
