@@ -84,8 +84,8 @@ const SLOW: f64 = 1e-6;
 /// [`CG_STEPS`]). Two orders below [`TOL`]: a direction solved to 10⁻¹⁰ moves the iterate by far
 /// less than the stopping test can see (the residuals it tests are recomputed from A, b and c at
 /// every iteration, never carried over from a solve). At 10⁻¹² the a = 20 design's factored solves
-/// (relative residuals 10⁻¹²–2·10⁻¹¹ from its twelfth iteration on) each took one more step, about
-/// a tenth of the design's time (docs/families.md, "Where an iteration's time goes").
+/// (relative residuals 10⁻¹²–2·10⁻¹¹ from its twelfth iteration on) each took one more step, an
+/// operator product and a solve (docs/families.md, "Where an iteration's time goes").
 const REFINE: f64 = 1e-10;
 /// At most this many conjugate-gradient steps per normal-equations solve.
 const CG_STEPS: usize = 20;
