@@ -60,10 +60,10 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
                 lanes::squared_norm(e, &mut e2);
             }
             let acc = &mut per_filter[f];
-            acc.steps.set(k, Welford::of(&e2[..active]));
+            acc.steps.set(k, lanes_of(&e2, active));
             if let Some(Some(w)) = sc.nees_weights(f).map(|ws| &ws[k]) {
                 quadratic(wide, w, e, &mut q);
-                acc.nees.set(k, Welford::of(&q[..active]));
+                acc.nees.set(k, lanes_of(&q, active));
             }
             if let Some(Some(w)) = sc.nis_weights(f).map(|ws| &ws[k]) {
                 match v.whitened {
@@ -79,7 +79,7 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
                         quadratic(wide, w, &nu, &mut q);
                     }
                 }
-                acc.nis.set(k, Welford::of(&q[..active]));
+                acc.nis.set(k, lanes_of(&q, active));
             }
             if plant.counts(k) {
                 lanes::axpy(1.0, &e2, &mut totals[f]);
@@ -97,14 +97,22 @@ pub(crate) fn run_block(sc: &Scenario, ws: &mut Workspace, first: u64, active: u
         st.filters[f].violations += broke[f][..active].iter().filter(|b| **b != 0.0).count() as u64;
     }
     for (acc, v) in st.filters.iter_mut().zip(&totals) {
-        acc.total = Welford::of(&v[..active]);
+        acc.total = lanes_of(v, active);
     }
     for (acc, (i, j)) in st.paired.iter_mut().zip(McStats::pairs(nf)) {
         let mut d = [0.0; LANES];
         lanes::difference(&totals[i..=i], &totals[j..=j], std::slice::from_mut(&mut d));
-        *acc = Welford::of(&d[..active]);
+        *acc = lanes_of(&d, active);
     }
     (st, totals)
+}
+
+/// [`Welford::of`] of a block's active lanes. A full block's length is then a constant the
+/// compiler unrolls the two passes over, the same sums in the same order (issue 28: the statistics
+/// pass).
+#[inline(always)]
+fn lanes_of(values: &Row, active: usize) -> Welford {
+    if active == LANES { Welford::of(values) } else { Welford::of(&values[..active]) }
 }
 
 /// ν = y − C s, the innovation of a filter whose state estimates x ([`crate::analysis::nees`]), into
