@@ -35,10 +35,10 @@ def load(path):
     return dict(a=a, b=b, c=c, d=d, q=q, p0=np.array(nom["x0"], float), n=p["horizon"], first=p.get("first_measurement", 0))
 
 
-def kalman_gains(m, weights=False):
+def kalman_gains(m):
     """Filtered Kalman gains: xhat[k] = Af[k] xhat[k-1] + K[k] y[k] (Af[0] unused, xhat[0] = E x0 = 0
-    before the first measurement). With `weights`, also the NEES and NIS weights filterbench reads:
-    per step P[k|k]^-1 / nx and, from the first measurement on, S[k]^-1 / ny (zero before it)."""
+    before the first measurement), and the NEES and NIS weights filterbench reads: per step
+    P[k|k]^-1 / nx and, from the first measurement on, S[k]^-1 / ny (zero before it)."""
     a, b, c, d, q = m["a"], m["b"], m["c"], m["d"], m["q"]
     nx, steps = a.shape[0], m["n"] + 1
     af = np.zeros((steps, nx, nx))
@@ -58,7 +58,7 @@ def kalman_gains(m, weights=False):
             p = (np.eye(nx) - kk @ c) @ p
             nis_w[k] = np.linalg.inv(s) / c.shape[0]
         nees_w[k] = np.linalg.inv(p) / nx
-    return (af, k_gain, nees_w, nis_w) if weights else (af, k_gain)
+    return af, k_gain, nees_w, nis_w
 
 
 def run_numpy(m, af, kg, trials, chunk=100_000, seed=1):
@@ -246,7 +246,7 @@ def main():
     ap.add_argument("--numpy-trials", type=int, default=200_000, help="numpy is slower: fewer trials")
     args = ap.parse_args()
     m = load(args.experiment)
-    af, kg, nees_w, nis_w = kalman_gains(m, weights=True)
+    af, kg, nees_w, nis_w = kalman_gains(m)
     steps = m["n"] + 1
     lw = np.linalg.cholesky(m["q"])
     l0 = np.linalg.cholesky(m["p0"])
